@@ -1,0 +1,5 @@
+import sys
+
+from pix2pockets.cli.main import main
+
+sys.exit(main())
