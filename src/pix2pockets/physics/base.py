@@ -1,0 +1,68 @@
+"""The simulator slot: one protocol, backends registered by name.
+
+Example:
+    >>> from pix2pockets.physics import make_simulator
+    >>> sim = make_simulator("event")          # doctest: +SKIP
+    >>> result = sim.simulate(layout, shot)    # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from enum import StrEnum
+from typing import Any, Protocol, runtime_checkable
+
+from pix2pockets.state import Shot, ShotResult, TableLayout
+
+
+class StopAfter(StrEnum):
+    """When a simulation may stop early.
+
+    ``REST``: run until every ball is at rest (the full outcome).
+    ``FIRST_CONTACT``: stop once the cue ball's first contact (or a no-contact outcome) is known.
+    ``FIRST_POCKET``: stop at the first ball pocketed (or at rest if none drops).
+    """
+
+    REST = "rest"
+    FIRST_CONTACT = "first_contact"
+    FIRST_POCKET = "first_pocket"
+
+
+@runtime_checkable
+class Simulator(Protocol):
+    """Layout + shot -> shot result with events. Positions are in the table frame [m]."""
+
+    name: str
+
+    def simulate(self, layout: TableLayout, shot: Shot, stop: StopAfter = StopAfter.REST) -> ShotResult:
+        """Simulate one shot struck on the layout's cue ball."""
+        ...
+
+    def simulate_batch(
+        self, layout: TableLayout, shots: Sequence[Shot], stop: StopAfter = StopAfter.REST
+    ) -> list[ShotResult]:
+        """Simulate many candidate shots from one layout (the planner's hot path)."""
+        ...
+
+
+SimulatorFactory = Callable[..., Simulator]
+_REGISTRY: dict[str, SimulatorFactory] = {}
+
+
+def register_simulator(name: str, factory: SimulatorFactory) -> None:
+    """Register a backend factory under ``name`` (called with keyword parameters)."""
+    _REGISTRY[name] = factory
+
+
+def available_simulators() -> list[str]:
+    """Names of the registered backends."""
+    return sorted(_REGISTRY)
+
+
+def make_simulator(name: str = "event", **params: Any) -> Simulator:
+    """Build the backend called ``name`` with keyword ``params``."""
+    try:
+        factory = _REGISTRY[name]
+    except KeyError:
+        raise ValueError(f"unknown simulator {name!r}; available: {available_simulators()}") from None
+    return factory(**params)
