@@ -8,6 +8,7 @@ Example:
 
 from __future__ import annotations
 
+import importlib
 from collections.abc import Callable, Sequence
 from enum import StrEnum
 from typing import Any, Protocol, runtime_checkable
@@ -47,6 +48,11 @@ class Simulator(Protocol):
 
 SimulatorFactory = Callable[..., Simulator]
 _REGISTRY: dict[str, SimulatorFactory] = {}
+# Built-in backends, imported on first use; each module calls register_simulator() on import.
+_BUILTIN_MODULES: dict[str, str] = {
+    "event": "pix2pockets.physics.event",
+    "pymunk": "pix2pockets.physics.pymunk_backend",
+}
 
 
 def register_simulator(name: str, factory: SimulatorFactory) -> None:
@@ -54,13 +60,25 @@ def register_simulator(name: str, factory: SimulatorFactory) -> None:
     _REGISTRY[name] = factory
 
 
+def _load_builtins() -> None:
+    for name, module in _BUILTIN_MODULES.items():
+        if name not in _REGISTRY:
+            try:
+                importlib.import_module(module)
+            except ModuleNotFoundError as err:
+                if err.name != module:  # a real missing dependency inside the backend
+                    raise
+
+
 def available_simulators() -> list[str]:
     """Names of the registered backends."""
+    _load_builtins()
     return sorted(_REGISTRY)
 
 
 def make_simulator(name: str = "event", **params: Any) -> Simulator:
     """Build the backend called ``name`` with keyword ``params``."""
+    _load_builtins()
     try:
         factory = _REGISTRY[name]
     except KeyError:
