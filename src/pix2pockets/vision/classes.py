@@ -1,0 +1,40 @@
+"""The detector's five classes, in the fixed id order used by datasets, models and outputs."""
+
+from __future__ import annotations
+
+from enum import StrEnum
+
+from pix2pockets.state.ball import CLASS_CAPS, BallClass
+
+
+class DetClass(StrEnum):
+    """Detection classes (the paper's five): four ball classes and the diamond sight ``dot``."""
+
+    CUE = "cue"
+    BLACK = "black"
+    SOLID = "solid"
+    STRIPE = "stripe"
+    DOT = "dot"
+
+
+CLASS_NAMES: tuple[str, ...] = tuple(c.value for c in DetClass)
+"""Class names by id: 0 cue, 1 black, 2 solid, 3 stripe, 4 dot (YOLO ``data.yaml`` order)."""
+
+DOT_ID = CLASS_NAMES.index("dot")
+BALL_IDS = tuple(range(4))
+
+DETECTION_CAPS: tuple[int, ...] = (
+    CLASS_CAPS[BallClass.CUE],
+    CLASS_CAPS[BallClass.BLACK],
+    CLASS_CAPS[BallClass.SOLID],
+    CLASS_CAPS[BallClass.STRIPE],
+    18,
+)
+"""Most detections of each class an image can hold (paper section 6.1): 1, 1, 7, 7, 18."""
+
+
+def ball_class_of(class_id: int) -> BallClass:
+    """The ball class for a ball detection id (0-3)."""
+    if class_id not in BALL_IDS:
+        raise ValueError(f"class id {class_id} is not a ball class (0-3)")
+    return BallClass(CLASS_NAMES[class_id])

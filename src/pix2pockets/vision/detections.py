@@ -1,0 +1,107 @@
+"""A container of detections: parallel numpy arrays with boolean-mask indexing.
+
+Example:
+    >>> import numpy as np
+    >>> det = Detections(np.array([[10, 10, 20, 20.0]]), np.array([0.9]), np.array([0]))
+    >>> det[det.confidence > 0.5].boxes.shape
+    (1, 4)
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pix2pockets.vision.classes import BALL_IDS, CLASS_NAMES, DOT_ID
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Detections:
+    """Detections in one image, in pixels.
+
+    Attributes:
+        boxes: (n, 4) boxes ``x1, y1, x2, y2`` [px].
+        confidence: (n,) scores in [0, 1].
+        class_id: (n,) class ids (see :data:`pix2pockets.vision.classes.CLASS_NAMES`).
+        contact: (n, 2) predicted ball-cloth contact points [px], NaN where unknown (dots, or detectors that
+            do not predict it).
+    """
+
+    boxes: np.ndarray
+    confidence: np.ndarray
+    class_id: np.ndarray
+    contact: np.ndarray = field(default=None)  # type: ignore[assignment]
+
+    def __post_init__(self) -> None:
+        boxes = np.asarray(self.boxes, dtype=float).reshape(-1, 4)
+        n = len(boxes)
+        conf = np.asarray(self.confidence, dtype=float).reshape(-1)
+        cls = np.asarray(self.class_id, dtype=int).reshape(-1)
+        contact = (
+            np.full((n, 2), np.nan) if self.contact is None else np.asarray(self.contact, dtype=float).reshape(-1, 2)
+        )
+        if not (len(conf) == len(cls) == len(contact) == n):
+            raise ValueError(
+                f"Detections arrays differ in length: boxes {n}, confidence {len(conf)}, class_id {len(cls)}, "
+                f"contact {len(contact)}"
+            )
+        if n and (cls.min() < 0 or cls.max() >= len(CLASS_NAMES)):
+            raise ValueError(f"class ids must be in 0..{len(CLASS_NAMES) - 1}")
+        object.__setattr__(self, "boxes", boxes)
+        object.__setattr__(self, "confidence", conf)
+        object.__setattr__(self, "class_id", cls)
+        object.__setattr__(self, "contact", contact)
+
+    @classmethod
+    def empty(cls) -> Detections:
+        return cls(np.zeros((0, 4)), np.zeros(0), np.zeros(0, dtype=int))
+
+    def __len__(self) -> int:
+        return len(self.boxes)
+
+    def __getitem__(self, index: np.ndarray | slice | list[int]) -> Detections:
+        """Select detections by boolean mask, index array or slice."""
+        return Detections(self.boxes[index], self.confidence[index], self.class_id[index], self.contact[index])
+
+    @property
+    def centres(self) -> np.ndarray:
+        """(n, 2) box centres [px]."""
+        return (self.boxes[:, :2] + self.boxes[:, 2:]) / 2
+
+    @property
+    def class_names(self) -> list[str]:
+        return [CLASS_NAMES[i] for i in self.class_id]
+
+    @property
+    def is_ball(self) -> np.ndarray:
+        return np.isin(self.class_id, BALL_IDS)
+
+    @property
+    def is_dot(self) -> np.ndarray:
+        return self.class_id == DOT_ID
+
+    def to_list(self) -> list[dict]:
+        """JSON-ready list of ``{class, confidence, bbox_px, contact_px}``."""
+        out = []
+        for b, c, k, p in zip(self.boxes, self.confidence, self.class_id, self.contact, strict=True):
+            item = {
+                "class": CLASS_NAMES[k],
+                "confidence": round(float(c), 4),
+                "bbox_px": [round(float(v), 2) for v in b],
+            }
+            if np.all(np.isfinite(p)):
+                item["contact_px"] = [round(float(v), 2) for v in p]
+            out.append(item)
+        return out
+
+    @staticmethod
+    def concatenate(parts: list[Detections]) -> Detections:
+        if not parts:
+            return Detections.empty()
+        return Detections(
+            np.vstack([p.boxes for p in parts]),
+            np.concatenate([p.confidence for p in parts]),
+            np.concatenate([p.class_id for p in parts]),
+            np.vstack([p.contact for p in parts]),
+        )

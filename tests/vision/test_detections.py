@@ -1,0 +1,38 @@
+import numpy as np
+import pytest
+
+from pix2pockets.vision import CLASS_NAMES, Detections
+
+
+def make() -> Detections:
+    return Detections(
+        np.array([[0, 0, 10, 10], [5, 5, 15, 15], [20, 20, 22, 22.0]]), np.array([0.9, 0.4, 0.7]), np.array([0, 2, 4])
+    )
+
+
+def test_mask_indexing():
+    det = make()
+    sub = det[det.confidence > 0.5]
+    assert len(sub) == 2
+    assert sub.class_names == ["cue", "dot"]
+    assert det[det.is_dot].boxes.tolist() == [[20, 20, 22, 22]]
+    assert det.is_ball.tolist() == [True, True, False]
+
+
+def test_to_list_and_concat():
+    det = make()
+    items = det.to_list()
+    assert items[0]["class"] == "cue" and "contact_px" not in items[0]
+    assert len(Detections.concatenate([det, det])) == 6
+    assert len(Detections.empty()) == 0
+
+
+def test_class_order():
+    assert CLASS_NAMES == ("cue", "black", "solid", "stripe", "dot")
+
+
+def test_bad_lengths():
+    with pytest.raises(ValueError, match="differ in length"):
+        Detections(np.zeros((2, 4)), np.zeros(1), np.zeros(2))
+    with pytest.raises(ValueError, match="class ids"):
+        Detections(np.zeros((1, 4)), np.zeros(1), np.array([7]))
