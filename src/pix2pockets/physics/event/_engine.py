@@ -14,6 +14,8 @@ from numba import njit
 
 from pix2pockets.physics.event._detect import ENV_LINE, ENV_NONE, ENV_POCKET, env_time, pair_time
 from pix2pockets.physics.event._motion import (
+    COLLIDE_LOCK,
+    COLLIDE_NUDGE,
     INF,
     ST_POCKETED,
     ST_ROLLING,
@@ -24,6 +26,8 @@ from pix2pockets.physics.event._motion import (
     collide_balls,
     collide_cushion,
     kinetic_energy,
+    lock_cluster,
+    nudge_apart,
     set_motion,
     strike,
     transition,
@@ -117,6 +121,7 @@ def run_shot(
     ek = np.zeros(n, dtype=np.int64)
     ei = np.full(n, -1, dtype=np.int64)
     ptime = np.full((n, n), INF)
+    member = np.zeros(n, dtype=np.bool_)
     for i in range(n):
         pocket_of[i] = -1
 
@@ -156,11 +161,21 @@ def run_shot(
 
         c1 = bi
         c2 = -1
+        locked = False
         if kind == 0:
             c2 = bj
-            collide_balls(bi, bj, pos, vel, w, prm)
-            set_motion(bi, now, vel, w, st, acc, wacc, tend, prm)
-            set_motion(bj, now, vel, w, st, acc, wacc, tend, prm)
+            outcome = collide_balls(bi, bj, pos, vel, w, prm)
+            if outcome == COLLIDE_NUDGE and not nudge_apart(bi, bj, n, pos, st, prm):
+                outcome = COLLIDE_LOCK
+            if outcome == COLLIDE_LOCK:
+                locked = True
+                lock_cluster(bi, bj, n, pos, vel, w, st, prm, member)
+                for k in range(n):
+                    if member[k]:
+                        set_motion(k, now, vel, w, st, acc, wacc, tend, prm)
+            else:
+                set_motion(bi, now, vel, w, st, acc, wacc, tend, prm)
+                set_motion(bj, now, vel, w, st, acc, wacc, tend, prm)
             code, a, b = EV_BALL, bi, bj
             if first < 0 and (bi == cue or bj == cue):
                 first = bj if bi == cue else bi
@@ -208,9 +223,14 @@ def run_shot(
             break
         if stopped:
             break
-        _refresh(c1, n, now, pos, vel, acc, st, tend, prm, geo, ptime, et, ek, ei)
-        if c2 >= 0:
-            _refresh(c2, n, now, pos, vel, acc, st, tend, prm, geo, ptime, et, ek, ei)
+        if locked:
+            for k in range(n):
+                if member[k]:
+                    _refresh(k, n, now, pos, vel, acc, st, tend, prm, geo, ptime, et, ek, ei)
+        else:
+            _refresh(c1, n, now, pos, vel, acc, st, tend, prm, geo, ptime, et, ek, ei)
+            if c2 >= 0:
+                _refresh(c2, n, now, pos, vel, acc, st, tend, prm, geo, ptime, et, ek, ei)
 
     # A ball resting beyond a cushion-nose line can only be in a pocket mouth: it drops.
     L, W = size[0], size[1]
