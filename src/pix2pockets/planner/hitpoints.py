@@ -84,7 +84,8 @@ class Hitpoint:
         if not isinstance(other, Hitpoint):
             return NotImplemented
         return (
-            (self.target, self.pocket, self.kind, self.cushions) == (other.target, other.pocket, other.kind, other.cushions)
+            (self.target, self.pocket, self.kind, self.cushions)
+            == (other.target, other.pocket, other.kind, other.cushions)
             and bool(np.allclose(self.ghost, other.ghost, atol=1e-12))
             and bool(np.allclose(self.aim_point, other.aim_point, atol=1e-12))
             and math.isclose(self.cue_angle, other.cue_angle, abs_tol=1e-12)
@@ -220,7 +221,9 @@ def find_hitpoints(
         others = _obstacles(pos, (cue, t))  # balls other than cue and target
         not_cue = _obstacles(pos, (cue,))
         for k, pocket in enumerate(pockets):
-            direct = _object_leg(b, pocket.jaws, r, others, clear, spec) if kinds & {ShotKind.DIRECT, ShotKind.KICK} else None
+            direct = None
+            if kinds & {ShotKind.DIRECT, ShotKind.KICK}:
+                direct = _object_leg(b, pocket.jaws, r, others, clear, spec)
             if direct is not None:
                 window, u, clear_w, dist = direct
                 ghost = b - 2.0 * r * u
