@@ -36,7 +36,9 @@ def toy_image(rng: np.random.Generator, size: tuple[int, int] = (320, 192), n_ba
         centres.append(p)
         cv2.circle(img, (round(p[0]), round(p[1])), r, COLOURS[c], -1, cv2.LINE_AA)
         if c == 3:
-            cv2.rectangle(img, (round(p[0] - r), round(p[1] - 2)), (round(p[0] + r), round(p[1] + 2)), (245, 245, 240), -1)
+            cv2.rectangle(
+                img, (round(p[0] - r), round(p[1] - 2)), (round(p[0] + r), round(p[1] + 2)), (245, 245, 240), -1
+            )
         boxes.append([p[0] - r, p[1] - r, p[0] + r, p[1] + r])
         cls.append(c)
         contacts.append([p[0], p[1] + 0.5 * r])
@@ -56,10 +58,9 @@ def write_toy_dataset(root: Path, n: int, seed: int = 0, split: str = "train") -
         img, boxes, cls, contacts = toy_image(rng)
         h, w = img.shape[:2]
         cv2.imwrite(str(root / split / "images" / f"toy{i:04d}.png"), cv2.cvtColor(img, cv2.COLOR_RGB2BGR))
-        lines = [
-            f"{c} {(b[0] + b[2]) / 2 / w:.6f} {(b[1] + b[3]) / 2 / h:.6f} {(b[2] - b[0]) / w:.6f} {(b[3] - b[1]) / h:.6f}"
-            for b, c in zip(boxes, cls, strict=True)
-        ]
+        cx, cy = (boxes[:, 0] + boxes[:, 2]) / 2 / w, (boxes[:, 1] + boxes[:, 3]) / 2 / h
+        bw, bh = (boxes[:, 2] - boxes[:, 0]) / w, (boxes[:, 3] - boxes[:, 1]) / h
+        lines = [f"{c} {x:.6f} {y:.6f} {a:.6f} {b:.6f}" for c, x, y, a, b in zip(cls, cx, cy, bw, bh, strict=True)]
         (root / split / "labels" / f"toy{i:04d}.txt").write_text("\n".join(lines) + "\n")
         cps = [None if np.isnan(p[0]) else [float(p[0]), float(p[1])] for p in contacts]
         (root / split / "meta" / f"toy{i:04d}.json").write_text(json.dumps({"contacts_px": cps}))

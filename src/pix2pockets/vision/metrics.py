@@ -40,7 +40,9 @@ class ClassMetrics:
 
     def as_dict(self) -> dict[str, float | int]:
         return {
-            k: (round(float(v), 4) if isinstance(v, float) and np.isfinite(v) else (None if isinstance(v, float) else v))
+            k: (
+                round(float(v), 4) if isinstance(v, float) and np.isfinite(v) else (None if isinstance(v, float) else v)
+            )
             for k, v in (
                 ("precision", self.precision),
                 ("recall", self.recall),

@@ -152,3 +152,35 @@ def read_class_names(root: str | Path) -> list[str] | None:
             elif s:
                 break
     return names or None
+
+
+NAME_SYNONYMS = {
+    "dots": "dot",
+    "diamond": "dot",
+    "stripes": "stripe",
+    "solids": "solid",
+    "8-ball": "black",
+    "cue ball": "cue",
+}
+
+
+def dataset_class_map(root: str | Path) -> dict[int, int]:
+    """Dataset class id -> detector class id, matched by name from ``data.yaml`` (identity without names).
+
+    Raises:
+        ValueError: if ``data.yaml`` names none of the detector's classes.
+    """
+    from pix2pockets.vision.classes import CLASS_NAMES
+
+    names = read_class_names(root)
+    if names is None:
+        return {i: i for i in range(len(CLASS_NAMES))}
+    lookup = {n: i for i, n in enumerate(CLASS_NAMES)}
+    out = {}
+    for i, n in enumerate(names):
+        key = NAME_SYNONYMS.get(n.lower(), n.lower())
+        if key in lookup:
+            out[i] = lookup[key]
+    if not out:
+        raise ValueError(f"dataset {root}: none of its classes {names} is one of {list(CLASS_NAMES)}")
+    return out

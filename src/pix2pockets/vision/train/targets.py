@@ -141,7 +141,9 @@ def make_sample(
     if len(boxes):
         x1 = boxes[:, 0] * ax + bx
         x2 = boxes[:, 2] * ax + bx
-        boxes = np.stack([np.minimum(x1, x2), boxes[:, 1] * scale - oy, np.maximum(x1, x2), boxes[:, 3] * scale - oy], 1)
+        boxes = np.stack(
+            [np.minimum(x1, x2), boxes[:, 1] * scale - oy, np.maximum(x1, x2), boxes[:, 3] * scale - oy], 1
+        )
     cont = np.stack([item.contact[:, 0] * ax + bx, item.contact[:, 1] * scale - oy], 1) if len(boxes) else boxes[:, :2]
     n = 0
     order = np.argsort(-(boxes[:, 2] - boxes[:, 0]) * (boxes[:, 3] - boxes[:, 1])) if len(boxes) else []

@@ -19,11 +19,10 @@ import numpy as np
 import torch
 from tqdm import tqdm
 
-from pix2pockets.vision.classes import CLASS_NAMES
 from pix2pockets.vision.train.loss import detector_loss
 from pix2pockets.vision.train.model import CenterNet, ExportWrapper
 from pix2pockets.vision.train.targets import AugmentConfig, make_sample
-from pix2pockets.vision.yolo_data import LabelledImage, load_split, read_class_names
+from pix2pockets.vision.yolo_data import LabelledImage, dataset_class_map, load_split
 
 CHECKPOINT = "last.pt"
 ONNX_NAME = "detector.onnx"
@@ -80,23 +79,10 @@ class TrainConfig:
             raise ValueError("lr must be > 0 and balls_fraction in [0, 4]")
 
 
-def _class_map(root: str) -> dict[int, int]:
-    """Dataset class id -> detector id, by name from data.yaml (identity if names are absent)."""
-    names = read_class_names(root)
-    if names is None:
-        return {i: i for i in range(len(CLASS_NAMES))}
-    lookup = {n.lower(): i for i, n in enumerate(CLASS_NAMES)}
-    lookup.update({"dots": 4, "diamond": 4, "stripes": 3, "solids": 2, "8-ball": 1, "eight": 1, "cue ball": 0})
-    out = {i: lookup[n.lower()] for i, n in enumerate(names) if n.lower() in lookup}
-    if not out:
-        raise ValueError(f"dataset {root}: none of its classes {names} is one of {CLASS_NAMES}")
-    return out
-
-
 def _load_sources(cfg: TrainConfig) -> tuple[list[tuple[LabelledImage, dict[int, int]]], list[LabelledImage]]:
     main = []
     for root in cfg.data:
-        cmap = _class_map(root)
+        cmap = dataset_class_map(root)
         main += [(it, cmap) for it in load_split(root, "train")]
     if cfg.limit is not None:
         main = main[: cfg.limit]
@@ -161,7 +147,7 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
     torch.manual_seed(cfg.seed)
     main, balls = _load_sources(cfg)
     model = CenterNet(pretrained=cfg.pretrained)
-    opt = torch.optim.AdamW(model.parameters(), lr=cfg.lr, weight_decay=1e-4)
+    opt = torch.optim.AdamW([p for p in model.parameters() if p.requires_grad], lr=cfg.lr, weight_decay=1e-4)
     n_balls = min(len(balls), round(cfg.balls_fraction * len(main)))
     per_epoch = len(main) + n_balls
     steps_per_epoch = max(1, per_epoch // cfg.batch)
@@ -174,7 +160,11 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
         state = torch.load(ckpt, map_location="cpu", weights_only=False)
         old = dict(state["config"])
         new = _comparable(cfg)
-        changed = [k for k in new if k not in ("epochs", "max_minutes", "checkpoint_minutes", "threads") and old.get(k) != new[k]]
+        changed = [
+            k
+            for k in new
+            if k not in ("epochs", "max_minutes", "checkpoint_minutes", "threads") and old.get(k) != new[k]
+        ]
         if changed:
             raise ValueError(f"--resume: settings differ from the checkpoint in {changed}")
         model.load_state_dict(state["model"])
@@ -214,7 +204,14 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
                 rng = np.random.default_rng((cfg.seed, epoch, int(j)))
                 ball_only = cmap is None
                 samples.append(
-                    make_sample(_read_rgb(it.image_path), it, {cfg.balls_class: 0} if ball_only else cmap, ball_only, cfg.augment, rng)
+                    make_sample(
+                        _read_rgb(it.image_path),
+                        it,
+                        {cfg.balls_class: 0} if ball_only else cmap,
+                        ball_only,
+                        cfg.augment,
+                        rng,
+                    )
                 )
             batch = _collate(samples)
             for g in opt.param_groups:
@@ -227,9 +224,21 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
             step += 1
             batch_i += 1
             bar.update(1)
-            bar.set_postfix(loss=f"{float(loss):.3f}", epoch=epoch)
+            bar.set_postfix(loss=f"{loss.item():.3f}", epoch=epoch)
             if step % 10 == 0:
-                log.write(json.dumps({"step": step, "epoch": epoch, "loss": round(float(loss), 4), **{k: round(v, 4) for k, v in parts.items()}, "lr": opt.param_groups[0]["lr"], "t": round(trained_s + time.monotonic() - started, 1)}) + "\n")
+                log.write(
+                    json.dumps(
+                        {
+                            "step": step,
+                            "epoch": epoch,
+                            "loss": round(loss.item(), 4),
+                            **{k: round(v, 4) for k, v in parts.items()},
+                            "lr": opt.param_groups[0]["lr"],
+                            "t": round(trained_s + time.monotonic() - started, 1),
+                        }
+                    )
+                    + "\n"
+                )
                 log.flush()
             now = time.monotonic()
             if now - last_ckpt > cfg.checkpoint_minutes * 60:
@@ -244,7 +253,13 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
     checkpoint()
     model.eval()
     path = export_onnx(model, out / ONNX_NAME)
-    meta = {"config": _comparable(cfg), "epoch": epoch, "step": step, "total_steps": total, "finished": epoch >= cfg.epochs}
+    meta = {
+        "config": _comparable(cfg),
+        "epoch": epoch,
+        "step": step,
+        "total_steps": total,
+        "finished": epoch >= cfg.epochs,
+    }
     (out / "detector.json").write_text(json.dumps(meta, indent=2))
     log.close()
     return path
