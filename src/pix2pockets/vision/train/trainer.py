@@ -11,6 +11,7 @@ import json
 import math
 import os
 import time
+import warnings
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -120,7 +121,8 @@ def export_onnx(model: CenterNet, path: Path, example_hw: tuple[int, int] = (384
     wrapper = ExportWrapper(model).eval()
     x = torch.zeros(1, 3, *example_hw)
     tmp = path.with_name(path.name + ".tmp")
-    with torch.no_grad():
+    with torch.no_grad(), warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)  # the TorchScript exporter needs no onnxscript
         torch.onnx.export(
             wrapper,
             (x,),
