@@ -32,8 +32,8 @@ def standard_views(spec: TableSpec | None = None, image_size: tuple[int, int] = 
     # 45 degrees down, from the bottom-left (head) side
     d45 = np.array([-0.55, -0.45, 0.0])
     d45 = d45 / np.linalg.norm(d45)
-    eye45 = centre + 2.6 * np.cos(np.pi / 4) * d45 + np.array([0.0, 0.0, 2.6 * np.sin(np.pi / 4)])
-    cam45 = PinholeCamera.look_at(eye45, centre, 0.8 * w, image_size)
+    eye45 = centre + 3.3 * np.cos(np.pi / 4) * d45 + np.array([0.0, 0.0, 3.3 * np.sin(np.pi / 4)])
+    cam45 = PinholeCamera.look_at(eye45, centre, 0.7 * w, image_size)
     # low front view from behind the head rail
     front = PinholeCamera.look_at(np.array([-1.3, spec.width / 2, 1.1]), centre, 0.85 * w, image_size)
     return {"top": top, "45": cam45, "front": front}

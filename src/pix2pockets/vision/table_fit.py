@@ -44,6 +44,7 @@ RAIL_DIAMONDS: tuple[tuple[int, ...], ...] = ((0, 1, 2, 3, 4, 5), (6, 7, 8), (9,
 
 MIN_DOTS = 4
 MAX_DOTS = 40  # more candidates than this are cut by confidence (false positives)
+MAX_HYPOTHESES = 2000  # rail-assignment hypotheses tried before giving up on better ones
 
 
 class TableFitError(ValueError):
@@ -154,7 +155,8 @@ def fit_rail_lines(points: np.ndarray, tol_px: float, max_lines: int = 4) -> lis
 # ----------------------------------------------------------------------------- labelling
 def _signed_area(poly: np.ndarray) -> float:
     x, y = poly[:, 0], poly[:, 1]
-    return 0.5 * float(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))
+    x2, y2 = np.concatenate([x[1:], x[:1]]), np.concatenate([y[1:], y[:1]])
+    return 0.5 * float(np.sum(x * y2 - x2 * y))
 
 
 def _match_dots(
@@ -177,17 +179,58 @@ def _match_dots(
     return index, cost
 
 
-def _hypotheses(line_a: np.ndarray, line_b: np.ndarray):
-    """Yield (dot indices, diamond indices) for pairs of lines assigned to two different rails."""
-    for ra, rb in itertools.permutations(range(4), 2):
-        da, db = RAIL_DIAMONDS[ra], RAIL_DIAMONDS[rb]
-        if len(line_a) > len(da) or len(line_b) > len(db):
+def _positions_along(spec: TableSpec, rail: int) -> np.ndarray:
+    """Positions [m] of a rail's diamonds along the rail, in ``RAIL_DIAMONDS`` order."""
+    xy = spec.diamonds[list(RAIL_DIAMONDS[rail])]
+    return np.linalg.norm(xy - xy[0], axis=1)
+
+
+def _cross_ratio(t: np.ndarray) -> np.ndarray:
+    """Cross-ratios of consecutive quadruples of 1-D positions (projective invariants)."""
+    a, b, c, d = t[:-3], t[1:-2], t[2:-1], t[3:]
+    return ((c - a) * (d - b)) / ((c - b) * (d - a))
+
+
+def _line_candidates(points: np.ndarray, line: np.ndarray, spec: TableSpec) -> list[tuple[int, np.ndarray]]:
+    """Possible (rail, diamond indices) for the dots of one line, sorted along it.
+
+    Any ordered subset of a rail's diamonds in either direction, pruned by cross-ratios (4 or more dots:
+    exact projective invariants) or by a loose spacing-ratio check (3 dots).
+    """
+    pts = points[line]
+    t = np.linalg.norm(pts - pts[0], axis=1)
+    k = len(line)
+    out = []
+    for rail, ids in enumerate(RAIL_DIAMONDS):
+        if k > len(ids):
             continue
-        for sa, sb in itertools.product(range(len(da) - len(line_a) + 1), range(len(db) - len(line_b) + 1)):
-            for fa, fb in itertools.product((1, -1), (1, -1)):
-                dots = np.concatenate([line_a[::fa], line_b[::fb]])
-                diam = np.array(da[sa : sa + len(line_a)] + db[sb : sb + len(line_b)])
-                yield dots, diam
+        pos = _positions_along(spec, rail)
+        for subset in itertools.combinations(range(len(ids)), k):
+            for direction in (1, -1):
+                sub = list(subset[::direction])
+                tp = pos[sub]
+                if k >= 4:
+                    cr_img, cr_tab = _cross_ratio(t), _cross_ratio(tp)
+                    if np.any(np.abs(np.log(np.abs(cr_img / cr_tab))) > 0.15):
+                        continue
+                elif k == 3:
+                    r_img = (t[1] - t[0]) / max(t[2] - t[1], 1e-9)
+                    r_tab = abs(tp[1] - tp[0]) / max(abs(tp[2] - tp[1]), 1e-9)
+                    if abs(np.log(r_img / r_tab)) > np.log(4.0):
+                        continue
+                out.append((rail, np.array([ids[i] for i in sub])))
+    return out
+
+
+def _hypotheses(points: np.ndarray, line_a: np.ndarray, line_b: np.ndarray, spec: TableSpec):
+    """Yield (dot indices, diamond indices) for two lines assigned to two different rails."""
+    cand_a = _line_candidates(points, line_a, spec)
+    cand_b = _line_candidates(points, line_b, spec)
+    dots = np.concatenate([line_a, line_b])
+    for ra, da in cand_a:
+        for rb, db in cand_b:
+            if ra != rb:
+                yield dots, np.concatenate([da, db])
 
 
 def label_dots(dots: np.ndarray, lines: list[np.ndarray], spec: TableSpec, tol_m: float | None = None) -> np.ndarray:
@@ -203,10 +246,26 @@ def label_dots(dots: np.ndarray, lines: list[np.ndarray], spec: TableSpec, tol_m
     best_index: np.ndarray | None = None
     table_rect = np.array([[0.0, 0.0], [spec.length, 0.0], [spec.length, spec.width], [0.0, spec.width]], dtype=float)
     seen: set[tuple] = set()
-    for a, b in itertools.combinations(range(len(usable)), 2):
-        for dot_idx, diam_idx in _hypotheses(usable[a], usable[b]):
+    pairs = sorted(
+        itertools.combinations(range(len(usable)), 2),
+        key=lambda ab: (-min(len(usable[ab[0]]), len(usable[ab[1]])), -len(usable[ab[0]]) - len(usable[ab[1]])),
+    )
+    strong = sum(len(x) >= 3 for x in usable)
+    if strong >= 2:  # two-dot lines only join hypotheses when there are not enough longer lines
+        pairs = [(a, b) for a, b in pairs if len(usable[a]) >= 3 and len(usable[b]) >= 3]
+    n_on_lines = sum(len(x) for x in usable)
+    tried = 0
+    for a, b in pairs:
+        if tried > MAX_HYPOTHESES:
+            break
+        if best is not None and best[0] >= n_on_lines:
+            break  # every dot on a rail line is explained: no better hypothesis exists
+        for dot_idx, diam_idx in _hypotheses(dots, usable[a], usable[b], spec):
             if len(dot_idx) < 4:
                 continue
+            tried += 1
+            if tried > MAX_HYPOTHESES:
+                break  # (the outer loop stops too, below)
             try:
                 H = fit_homography(diamonds[diam_idx], dots[dot_idx])  # table -> image
             except ValueError:
@@ -218,17 +277,23 @@ def label_dots(dots: np.ndarray, lines: list[np.ndarray], spec: TableSpec, tol_m
             w = np.column_stack([table_rect, np.ones(4)]) @ H[2]
             if not (np.all(w > 0) or np.all(w < 0)):
                 continue
-            Hinv = np.linalg.inv(H)
+            Hinv = _safe_inv(H)
+            if Hinv is None:
+                continue
             index, cost = _match_dots(Hinv, dots, diamonds, tol_m)
+            if best is not None and (index >= 0).sum() < best[0] - 4:
+                continue  # hopeless: skip the refits
             for _ in range(2):  # refit on all matched dots
                 m = index >= 0
-                if m.sum() < 4:
+                if m.sum() < 4 or len({_rail_of(int(j)) for j in index[m]}) < 2:
                     break
                 try:
-                    H = fit_homography(diamonds[index[m]], dots[m])
+                    Hinv = _safe_inv(fit_homography(diamonds[index[m]], dots[m]))
                 except ValueError:
                     break
-                index, cost = _match_dots(np.linalg.inv(H), dots, diamonds, tol_m)
+                if Hinv is None:
+                    break
+                index, cost = _match_dots(Hinv, dots, diamonds, tol_m)
             key_t = tuple(index)
             if key_t in seen:
                 continue
@@ -247,6 +312,13 @@ def label_dots(dots: np.ndarray, lines: list[np.ndarray], spec: TableSpec, tol_m
     return best_index
 
 
+def _safe_inv(H: np.ndarray) -> np.ndarray | None:
+    """Inverse of a homography, or ``None`` when it is (nearly) singular."""
+    if not np.all(np.isfinite(H)) or np.linalg.cond(H) > 1e12:
+        return None
+    return np.linalg.inv(H)
+
+
 def _rail_of(diamond: int) -> int:
     for r, ids in enumerate(RAIL_DIAMONDS):
         if diamond in ids:
@@ -262,47 +334,72 @@ def diamond_rectangle(spec: TableSpec) -> np.ndarray:
     return np.array([[-s, -s], [L + s, -s], [L + s, W + s], [-s, W + s]])
 
 
-def _rail_corners(dots: np.ndarray, index: np.ndarray, image_size: tuple[int, int]) -> np.ndarray:
+def _rail_corners(dots: np.ndarray, index: np.ndarray, min_angle_deg: float = 8.0) -> np.ndarray:
     """Intersections of adjacent rail lines (rails with >= 2 matched dots), (4, 2), NaN where missing.
 
-    Corner ``k`` is the meeting point of rails ``k - 1`` and ``k`` (bottom/head, bottom/foot, foot/top,
-    top/head).
+    Corner ``k`` is the meeting point of rails bottom/head, bottom/foot, foot/top, top/head (the
+    ``TableSpec.corners`` order). Lines meeting at less than ``min_angle_deg`` in the image (a view along
+    the table diagonal) give an ill-conditioned intersection and are skipped.
     """
     lines: list[np.ndarray | None] = []
     for r in range(4):
         m = np.isin(index, RAIL_DIAMONDS[r])
         lines.append(_tls_line(dots[m]) if m.sum() >= 2 else None)
-    # rails in order bottom(0), foot(1), top(2), head(3); corner 0 = head/bottom, 1 = bottom/foot, ...
     pairs = [(3, 0), (0, 1), (1, 2), (2, 3)]
     out = np.full((4, 2), np.nan)
+    sin_min = math.sin(math.radians(min_angle_deg))
     for k, (ra, rb) in enumerate(pairs):
         la, lb = lines[ra], lines[rb]
         if la is None or lb is None:
             continue
-        p = np.cross(la, lb)
-        if abs(p[2]) < 1e-9 * (abs(p[0]) + abs(p[1]) + 1e-12):
+        if abs(la[0] * lb[1] - la[1] * lb[0]) < sin_min:
             continue
+        p = np.cross(la, lb)
         out[k] = p[:2] / p[2]
     return out
 
 
-def _validate_corners(corners: np.ndarray, image_size: tuple[int, int]) -> None:
+def validate_corners(corners: np.ndarray, image_size: tuple[int, int]) -> None:
+    """Check the 4 table corners [px]: exactly four finite points, in a plausible region around the
+    image (the image grown by its size on every side), forming a convex quadrilateral.
+
+    Raises:
+        TableFitError: with the reason.
+    """
+    corners = np.asarray(corners, dtype=float)
+    if corners.shape != (4, 2) or not np.all(np.isfinite(corners)):
+        raise TableFitError("no table found: the rails do not give four corners")
     w, h = image_size
-    ok = np.all(np.isfinite(corners), axis=1)
-    if ok.any():
-        c = corners[ok]
-        far = (c[:, 0] < -w) | (c[:, 0] > 2 * w) | (c[:, 1] < -h) | (c[:, 1] > 2 * h)
-        if far.any():
-            raise TableFitError("no table found: rail lines meet far outside the image")
-    if ok.all():
-        quad = corners
-        cross = []
-        for i in range(4):
-            a, b, c = quad[i], quad[(i + 1) % 4], quad[(i + 2) % 4]
-            u, v = b - a, c - b
-            cross.append(u[0] * v[1] - u[1] * v[0])
-        if not (all(x < 0 for x in cross) or all(x > 0 for x in cross)):
-            raise TableFitError("no table found: the rail lines do not form a convex quadrilateral")
+    far = (corners[:, 0] < -w) | (corners[:, 0] > 2 * w) | (corners[:, 1] < -h) | (corners[:, 1] > 2 * h)
+    if far.any():
+        raise TableFitError("no table found: table corners fall far outside the image")
+    cross = []
+    for i in range(4):
+        a, b, c = corners[i], corners[(i + 1) % 4], corners[(i + 2) % 4]
+        u, v = b - a, c - b
+        cross.append(u[0] * v[1] - u[1] * v[0])
+    if not (all(x < 0 for x in cross) or all(x > 0 for x in cross)):
+        raise TableFitError("no table found: the corners do not form a convex quadrilateral")
+
+
+def robust_homography(src: np.ndarray, dst: np.ndarray, thresh_px: float) -> tuple[np.ndarray, np.ndarray]:
+    """Robust homography ``dst ~ H src``: MAGSAC++ (falling back to RANSAC, then plain least squares),
+    refitted by least squares on the inliers. Returns ``(H, inlier mask)``."""
+    H = mask = None
+    if len(src) >= 5:
+        for method in (cv2.USAC_MAGSAC, cv2.RANSAC):
+            H, mask = cv2.findHomography(src, dst, method, thresh_px)
+            if H is not None and mask is not None and mask.sum() >= 4:
+                break
+            H = None
+    if H is None:
+        mask = np.ones(len(src), dtype=bool)
+    mask = np.asarray(mask).reshape(-1).astype(bool)
+    try:
+        H = fit_homography(src[mask], dst[mask])
+    except ValueError as err:
+        raise TableFitError(f"no table found: {err}") from None
+    return H, mask
 
 
 # ----------------------------------------------------------------------------- main entry
@@ -356,23 +453,21 @@ def fit_table(
     if sum(len(x) >= 2 for x in lines) < 2:
         raise TableFitError("too few table points: diamonds on at least two rails are needed")
     index = label_dots(pts, lines, spec)
-    corners = _rail_corners(pts, index, image_size)
-    _validate_corners(corners, image_size)
-
     h = spec.cushion_height
     m = index >= 0
     world = spec.diamonds[index[m]]
     image = pts[m]
     rect = diamond_rectangle(spec)
-    has = np.all(np.isfinite(corners), axis=1)
-    world_all = np.vstack([world, rect[has]])
-    image_all = np.vstack([image, corners[has]])
     thresh = max(3.0, 2 * tol)
-    H, mask = cv2.findHomography(world_all, image_all, cv2.USAC_MAGSAC, thresh)
-    if H is None:
-        H = fit_homography(world_all, image_all)
-        mask = np.ones(len(world_all), dtype=bool)
-    mask = np.asarray(mask).reshape(-1).astype(bool)
+    H_dots, _ = robust_homography(world, image, thresh)
+    # rail-line corners, kept only where they agree with the dots' homography
+    corners = _rail_corners(pts, index)
+    predicted = apply_homography(H_dots, rect)
+    agree = np.linalg.norm(corners - predicted, axis=1) < max(5.0, 3 * tol)
+    corners = np.where(agree[:, None], corners, np.nan)
+    world_all = np.vstack([world, rect[agree]])
+    image_all = np.vstack([image, corners[agree]])
+    H, mask = robust_homography(world_all, image_all, thresh)
     if mask.sum() < 4:
         raise TableFitError("no table found: the diamonds do not fit a table (homography failed)")
     world3 = np.column_stack([world_all[mask], np.full(mask.sum(), h)])
@@ -382,8 +477,16 @@ def fit_table(
     proj = camera.project(world3)
     err = np.linalg.norm(proj - image_all[mask], axis=1)
     rms = float(np.sqrt(np.mean(err**2)))
-    if not np.isfinite(rms) or rms > max(8.0, 4 * tol):
+    if not np.isfinite(rms) or rms > max(4.0, tol):
         raise TableFitError(f"no table found: the diamonds do not fit a {spec.name} table (error {rms:.1f} px)")
+    n_matched = int(m.sum())
+    if n_matched < max(MIN_DOTS, 0.5 * len(pts)):
+        raise TableFitError(
+            f"no table found: only {n_matched} of {len(pts)} dots fit the diamond pattern of a {spec.name} table"
+        )
+    if camera.position[2] < spec.cushion_height + 0.2:
+        raise TableFitError("no table found: the fitted camera is not above the table")
+    validate_corners(camera.project_table(rect, h), image_size)
 
     # the 180-degree convention: head rail further left / lower in the image than the foot rail
     head_mid = camera.project_table(np.array([0.0, spec.width / 2]), h)
@@ -394,7 +497,7 @@ def fit_table(
 
     dot_index_full = np.full(n_total, -1)
     dot_index_full[back] = index
-    return TableFit(spec, camera, dot_index_full, corners, rms, int(m.sum()))
+    return TableFit(spec, camera, dot_index_full, corners, rms, n_matched)
 
 
 def _rotate_half_turn(
