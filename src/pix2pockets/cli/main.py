@@ -20,6 +20,7 @@ COMMANDS: tuple[str, ...] = (
     "pix2pockets.cli.train_detector_cmd",
     "pix2pockets.cli.detect_cmd",
     "pix2pockets.cli.evaluate_cmd",
+    "pix2pockets.cli.suggest_cmd",
 )
 
 
