@@ -1,8 +1,8 @@
 """The ``pix2pockets`` command: one sub-command per module.
 
 Sub-commands are discovered: every ``cli/<name>_cmd.py`` module exposes ``register(subparsers)``, which adds
-its parser and sets ``func`` (a callable taking the parsed args and returning an exit code). Errors the user can fix are raised as ``ValueError``
-(or ``OSError``) and printed as one line on stderr with exit code 2.
+its parser and sets ``func`` (a callable taking the parsed args and returning an exit code). Errors the user
+can fix are raised as ``ValueError`` (or ``OSError``) and printed as one line on stderr with exit code 2.
 """
 
 from __future__ import annotations
