@@ -38,9 +38,11 @@ def test_check_env_gymnasium_and_sb3(env_id: str, action_type: str) -> None:
     env.close()
 
 
+@pytest.mark.parametrize("backend", sorted(BACKENDS))
 @pytest.mark.parametrize("balls", ["one", "two", "all"])
-def test_seeded_determinism(balls: str) -> None:
-    a, b = _env(balls, aim_noise_deg=0.5, speed_noise=0.1), _env(balls, aim_noise_deg=0.5, speed_noise=0.1)
+def test_seeded_determinism(balls: str, backend: str) -> None:
+    noise = {"aim_noise_deg": 0.5, "speed_noise": 0.1}
+    a, b = _env(balls, backend, **noise), _env(balls, backend, **noise)
     oa, _ = a.reset(seed=42)
     ob, _ = b.reset(seed=42)
     assert np.array_equal(oa, ob)
