@@ -112,8 +112,8 @@ class PoolEnv(gym.Env):
     ## Episode End
     Terminated: in ``mode="turn"`` (default) at the first shot that does not earn another shot, or at a
     win or a loss; in ``mode="shot"`` after every shot. Never truncated (a turn has at most 8 shots).
-    ``info``: ``outcome``, ``fouls``, ``pocketed``, ``shot_success``, ``shots``, ``reward_terms`` and, at
-    the end, ``is_success``.
+    ``info``: ``outcome``, ``fouls``, ``pocketed``, ``shot_success``, ``won``, ``shots``,
+    ``reward_terms`` and, at the end, ``is_success``.
 
     ## Arguments
     ``gymnasium.make("pix2pockets/AllBall-v0", **kwargs)`` or ``PoolEnv(balls="all", **kwargs)``:
@@ -262,6 +262,7 @@ class PoolEnv(gym.Env):
             "fouls": fouls,
             "pocketed": len(result.pocketed),
             "shot_success": succeeded,
+            "won": won,
             "shots": self._shots,
         }
         if terms is not None:
