@@ -172,6 +172,12 @@ def test_unknown_reset_option() -> None:
         _env().reset(options={"layuot": None})
 
 
+def test_check_env_with_rendering() -> None:
+    env = gym.make("pix2pockets/TwoBall-v0", render_mode="rgb_array", render_width=300)
+    gym_check_env(env.unwrapped)
+    env.close()
+
+
 def test_render_rgb_array() -> None:
     env = _env("all", render_mode="rgb_array", render_width=400)
     env.reset(seed=0)
