@@ -105,12 +105,13 @@ def bench(backend: str, scenario: str, cases, max_seconds: float) -> dict:
 _COLD_SNIPPET = """
 import time
 t0 = time.perf_counter()
+c0 = time.process_time()
 from pix2pockets.physics import make_simulator
 from pix2pockets.state import Shot, eight_ball_rack
 sim = make_simulator("event")
 sim.simulate(eight_ball_rack(), Shot(angle=0.0, speed=5.0))
 sim.simulate_arrays(eight_ball_rack(), [Shot(angle=0.0, speed=5.0)])
-print(time.perf_counter() - t0)
+print(time.perf_counter() - t0, time.process_time() - c0)
 """
 
 
@@ -125,11 +126,14 @@ def cold_start() -> dict:
             wall = time.perf_counter() - t0
             if proc.returncode != 0:
                 raise RuntimeError(f"cold-start probe failed: {proc.stderr.strip().splitlines()[-1:]}")
-            times.append((float(proc.stdout.strip()), wall))
+            elapsed, cpu = (float(x) for x in proc.stdout.split())
+            times.append((elapsed, cpu, wall))
     return {
         "cold_compile_s": round(times[0][0], 2),
+        "cold_compile_cpu_s": round(times[0][1], 2),
         "cached_start_s": round(times[1][0], 2),
-        "cached_process_wall_s": round(times[1][1], 2),
+        "cached_start_cpu_s": round(times[1][1], 2),
+        "cached_process_wall_s": round(times[1][2], 2),
     }
 
 
