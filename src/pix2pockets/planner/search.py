@@ -3,18 +3,21 @@
 1. **Candidates**: hitpoints (direct, bank, kick) for the shooter's legal balls, ranked by a geometric
    pot probability (:func:`~pix2pockets.planner.position.pot_probability`); the best ``max_candidates``
    are expanded over ``speeds`` and tip ``heights`` (follow / draw; direct shots only).
-2. **Verify**: each stroke is simulated once without noise; strokes whose clean execution does not
-   legally pot an own ball are dropped. A missed pot is retried once with the aim corrected by the
-   observed miss (engines with throw or real cushions deviate from ideal ghost-ball geometry).
-3. **Robustness and position**: the surviving strokes are replayed with ``samples`` noisy executions
-   (common random numbers: the same draws for every stroke). Each execution scores
-   ``success x (1 + lookahead x V)``, ``V`` the best next-shot pot probability from where the balls stop.
-   The expected score ranks the suggestions; the success fraction is their success probability.
-4. **Fallback**: with no pot, a legal safety (contact an own ball, no foul) or a plain shot at the nearest
-   own ball.
+2. **Aim fan**: every stroke is simulated without noise at ``fan`` cue angles around the ghost-ball aim,
+   spread over the geometric aim tolerance. The longest run of angles that legally pot an own ball gives
+   the corrected aim (its centre; engines with throw or real cushions deviate from ideal geometry) and
+   its width a noise-free robustness measure. Strokes with no potting angle are dropped.
+3. **Robustness and position**: the best ``max_verified`` strokes are replayed with ``samples`` noisy
+   executions (common random numbers: the same draws for every stroke). Each execution scores
+   ``success x (1 + lookahead x V)``, ``V`` the best next-shot pot probability from where the balls stop
+   (one shot of look-ahead). The mean score ranks the suggestions; the success fraction of the noisy
+   replays is their success probability.
+4. **Fallback**: with no pot, shots at the legal balls over a range of cut offsets are tried; failing
+   that, a legal safety (own ball first, no foul) or a plain shot at the nearest legal ball.
 
-Budgets: ``max_simulations`` is deterministic; ``time_budget`` [s] additionally stops early on slow
-machines (results then depend on timing, so evaluations set it to ``None``).
+Simulators with a lean batch API (``simulate_arrays``, the ``event`` backend) are called in batches;
+others shot by shot. ``time_budget`` [s] stops the search early (results then depend on timing; set it to
+``None`` for reproducible evaluations).
 """
 
 from __future__ import annotations
@@ -29,9 +32,9 @@ from pix2pockets.physics import Simulator, make_simulator
 from pix2pockets.planner.base import Suggestion, fallback_shot, legal_targets
 from pix2pockets.planner.hitpoints import Hitpoint, ShotKind, find_hitpoints
 from pix2pockets.planner.noise import GaussianNoise, noise_model
-from pix2pockets.planner.position import position_value, pot_probability
-from pix2pockets.rules import GameState, Outcome, TurnResult, turn_outcome
-from pix2pockets.state import Shot, ShotResult, TableLayout
+from pix2pockets.planner.position import fast_position_value, pot_probability
+from pix2pockets.rules import GameState, Outcome, turn_outcome
+from pix2pockets.state import BallClass, Shot, TableLayout
 
 _MIN_SIGMA = math.radians(0.05)  # planning never assumes perfect aim
 
@@ -43,41 +46,42 @@ class SearchConfig:
     Attributes:
         physics: simulator backend name (``make_simulator``).
         noise: planning noise model name (``noise_model``); the planner prefers strokes that survive it.
-        samples: noisy executions per surviving stroke.
+        samples: noisy executions per verified stroke.
         speeds: candidate cue-ball speeds [m/s].
-        heights: candidate vertical tip offsets (fraction of the radius; + follow, - draw) for direct shots.
+        heights: vertical tip offsets (fraction of the radius; + follow, - draw) tried on direct shots.
         kinds: hitpoint kinds to consider.
         max_candidates: hitpoints expanded per decision.
+        fan: cue angles per stroke in the aim fan (odd).
         max_verified: strokes that get noisy replays.
         max_cut: largest cut angle [rad].
         lookahead: weight of the next-shot value.
         time_budget: wall-clock limit per decision [s], ``None`` for none.
-        max_simulations: simulation limit per decision (deterministic).
-        correct_aim: retry a missed pot once with the aim corrected by the observed miss.
+        simulator_params: keyword parameters for the simulator backend.
     """
 
     physics: str = "event"
     noise: str = "fastfiz"
-    samples: int = 6
-    speeds: tuple[float, ...] = (1.2, 2.0, 3.2)
-    heights: tuple[float, ...] = (0.0, 0.3, -0.3)
+    samples: int = 8
+    speeds: tuple[float, ...] = (1.0, 1.8, 3.0)
+    heights: tuple[float, ...] = (0.0, 0.35, -0.35)
     kinds: tuple[ShotKind, ...] = (ShotKind.DIRECT, ShotKind.BANK, ShotKind.KICK)
-    max_candidates: int = 10
-    max_verified: int = 6
+    max_candidates: int = 8
+    fan: int = 7
+    max_verified: int = 8
     max_cut: float = math.radians(80.0)
     lookahead: float = 1.0
     time_budget: float | None = 0.5
-    max_simulations: int = 200
-    correct_aim: bool = True
     simulator_params: dict = field(default_factory=dict, hash=False, compare=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "kinds", tuple(ShotKind(k) for k in self.kinds))
-        if self.samples < 0 or self.max_candidates < 1 or self.max_verified < 1 or self.max_simulations < 1:
-            raise ValueError("SearchConfig: samples >= 0, max_candidates, max_verified, max_simulations >= 1")
+        if self.samples < 0 or self.max_candidates < 1 or self.max_verified < 1:
+            raise ValueError("SearchConfig needs samples >= 0, max_candidates >= 1 and max_verified >= 1")
+        if self.fan < 1 or self.fan % 2 == 0:
+            raise ValueError(f"SearchConfig.fan must be a positive odd number, got {self.fan}")
         if not self.speeds or any(not s > 0 for s in self.speeds):
             raise ValueError(f"SearchConfig.speeds must be positive, got {self.speeds}")
-        if any(abs(h) > 0.5 for h in self.heights) or not self.heights:
+        if not self.heights or any(abs(h) > 0.5 for h in self.heights):
             raise ValueError(f"SearchConfig.heights must lie in [-0.5, 0.5], got {self.heights}")
         if self.time_budget is not None and not self.time_budget > 0:
             raise ValueError(f"SearchConfig.time_budget must be positive or None, got {self.time_budget}")
@@ -88,43 +92,36 @@ class SearchConfig:
 
 @dataclass(slots=True)
 class _Stroke:
-    hp: Hitpoint
+    """One candidate stroke and what the search learnt about it."""
+
     shot: Shot
-    prior: float
-    result: ShotResult | None = None
-    turn: TurnResult | None = None
-    successes: int = 0
+    hp: Hitpoint | None
+    target: int
+    margin: float = 0.0  # width of the potting aim run [rad]
+    clean: float = 0.0  # score of the clean execution
     runs: int = 0
+    successes: int = 0
     score: float = 0.0
 
     @property
     def ev(self) -> float:
-        return self.score / self.runs if self.runs else 0.0
+        return (self.clean + self.score) / (1 + self.runs)
 
     @property
     def p(self) -> float:
-        return self.successes / self.runs if self.runs else 0.0
-
-
-class _Budget:
-    def __init__(self, cfg: SearchConfig) -> None:
-        self.start = time.perf_counter()
-        self.cfg = cfg
-        self.sims = 0
-
-    def left(self) -> bool:
-        if self.sims >= self.cfg.max_simulations:
-            return False
-        tb = self.cfg.time_budget
-        return tb is None or time.perf_counter() - self.start < tb
+        return self.successes / self.runs if self.runs else 1.0
 
 
 class SearchPlanner:
     """Physics-verified search planner (a :class:`~pix2pockets.planner.base.Planner`).
 
     Example:
-        >>> planner = SearchPlanner(SearchConfig(physics="pymunk", heights=(0.0,)))  # doctest: +SKIP
-        >>> best = planner.suggest(layout, GameState(Group.SOLIDS))[0]                  # doctest: +SKIP
+        >>> from pix2pockets.state import Ball, TableLayout, Group
+        >>> from pix2pockets.rules import GameState
+        >>> lay = TableLayout((Ball.numbered(0), Ball.numbered(1)), [[1.0, 0.3], [1.8, 0.3]])
+        >>> best = SearchPlanner(SearchConfig(time_budget=None)).suggest(lay, GameState(Group.SOLIDS))[0]
+        >>> best.target, best.success_probability > 0.5
+        (1, True)
     """
 
     def __init__(self, config: SearchConfig | None = None, simulator: Simulator | None = None) -> None:
@@ -132,6 +129,7 @@ class SearchPlanner:
         self.noise: GaussianNoise = noise_model(self.config.noise)
         self.simulator = simulator or make_simulator(self.config.physics, **self.config.simulator_params)
         self.name = "search"
+        self._deadline = math.inf
 
     # ------------------------------------------------------------------ api
     def suggest(
@@ -140,113 +138,217 @@ class SearchPlanner:
         """Ranked suggestions, best expected value first (never empty while a cue ball is on the table)."""
         cfg = self.config
         rng = rng if rng is not None else np.random.default_rng(0)
-        budget = _Budget(cfg)
-        spec = layout.spec
+        tb = cfg.time_budget
+        self._deadline = time.perf_counter() + tb if tb is not None else math.inf
+        if layout.cue_index is None:
+            raise ValueError("cannot plan a shot: the layout has no cue ball")
         sigma = max(self.noise.angle_sigma, _MIN_SIGMA)
-        targets = legal_targets(layout, state)
-        hps = find_hitpoints(layout, targets, kinds=cfg.kinds, max_cut=cfg.max_cut) if targets else []
-        priors = [pot_probability(h, spec.ball_radius, sigma) for h in hps]
-        order = sorted(range(len(hps)), key=lambda i: -priors[i])[: cfg.max_candidates]
         z = rng.standard_normal((cfg.samples, 5))
+        targets = legal_targets(layout, state)
+        if not targets:
+            return [fallback_shot(layout, state, cfg.speeds[0])]
+        r = layout.spec.ball_radius
+        hps = find_hitpoints(layout, targets, kinds=cfg.kinds, max_cut=cfg.max_cut)
+        priors = [pot_probability(h, r, sigma) for h in hps]
+        order = sorted(range(len(hps)), key=lambda i: -priors[i])[: cfg.max_candidates]
+        strokes = self._fan([hps[i] for i in order], layout, state, sigma)
+        if not strokes:
+            strokes = self._rescue(layout, state, targets, sigma)
+        if not strokes:
+            return self._safety(layout, state, targets)
+        strokes.sort(key=lambda s: -s.clean * _angle_p(s.margin, sigma))
+        verified = strokes[: cfg.max_verified]
+        self._replay(verified, layout, state, z, sigma)
+        verified.sort(key=lambda s: (-s.ev, -s.p))
+        return [self._suggestion(s) for s in verified + strokes[cfg.max_verified :]]
 
-        strokes = self._verify([(hps[i], priors[i]) for i in order], layout, state, budget)
-        potting = [s for s in strokes if s.turn is not None and s.turn.shot_succeeded]
-        for s in potting:
-            s.runs, s.successes = 1, 1
-            s.score = 1.0 + cfg.lookahead * self._value(s.result, s.turn, sigma)
-        potting.sort(key=lambda s: -(s.prior * s.score))
-        chosen = potting[: cfg.max_verified]
-        self._replay(chosen, layout, state, z, sigma, budget)
-        if not chosen:
-            return self._safety(strokes, layout, state)
-        ranked = sorted(chosen, key=lambda s: (-s.ev, -s.p)) + potting[len(chosen) :]
-        return [Suggestion(s.shot, s.hp.target, s.hp.pocket, s.hp.kind, s.p, s.ev, s.hp) for s in ranked]
-
-    # ------------------------------------------------------------- phases
-    def _simulate(self, layout: TableLayout, shot: Shot, budget: _Budget) -> ShotResult | None:
-        budget.sims += 1
-        try:
-            return self.simulator.simulate(layout, shot)
-        except RuntimeError:
-            return None
-
-    def _verify(self, ranked, layout, state, budget) -> list[_Stroke]:
-        """Clean execution of every candidate stroke, in prior order, until the budget is spent."""
+    # -------------------------------------------------------------- phases
+    def _fan(self, hps: list[Hitpoint], layout, state, sigma) -> list[_Stroke]:
+        """Clean executions over an aim fan per stroke; keep the strokes with a potting run."""
         cfg = self.config
-        out: list[_Stroke] = []
-        for hp, prior in ranked:
+        r = layout.spec.ball_radius
+        rows, meta = [], []
+        for hp in hps:
+            gain = max(hp.cue_distance / (2 * r * max(math.cos(hp.cut_angle), 0.1)), 1.0)
+            tol = float(np.clip(0.5 * hp.clear_window / gain, math.radians(0.03), math.radians(2.0)))
+            offsets = np.linspace(-1.5 * tol, 1.5 * tol, cfg.fan)
             heights = cfg.heights if hp.kind is ShotKind.DIRECT else (0.0,)
             for speed in cfg.speeds:
                 for height in heights:
-                    if not budget.left():
-                        return out
-                    stroke = _Stroke(hp, hp.shot(speed, height=height), prior)
-                    stroke.result = self._simulate(layout, stroke.shot, budget)
-                    if stroke.result is not None:
-                        stroke.turn = turn_outcome(stroke.result, state)
-                        if cfg.correct_aim and not stroke.turn.shot_succeeded and budget.left():
-                            self._correct(stroke, layout, state, budget)
-                    out.append(stroke)
+                    meta.append((hp, speed, height, offsets, hp.target))
+                    rows.extend((hp.cue_angle + o, speed, 0.0, height, 0.0) for o in offsets)
+        return self._fan_select(meta, np.array(rows).reshape(-1, 5), layout, state, sigma)
+
+    def _fan_select(self, meta, rows, layout, state, sigma) -> list[_Stroke]:
+        cfg = self.config
+        if len(rows) == 0:
+            return []
+        first, pocket, final = self._run(layout, rows)
+        ok = self._success(first, pocket, layout, state)
+        out: list[_Stroke] = []
+        for k, (hp, speed, height, offsets, target) in enumerate(meta):
+            seg = ok[k * len(offsets) : (k + 1) * len(offsets)]
+            start, length = _longest_run(seg)
+            if length == 0:
+                continue
+            centre = start + (length - 1) // 2
+            row = k * len(offsets) + centre
+            step = float(offsets[1] - offsets[0]) if len(offsets) > 1 else math.radians(0.1)
+            stroke = _Stroke(Shot(float(rows[row, 0]), speed, 0.0, height), hp, target, margin=length * step)
+            stroke.clean = 1.0 + cfg.lookahead * self._value(layout, state, pocket[row], final[row], sigma)
+            out.append(stroke)
+            if time.perf_counter() > self._deadline:
+                break
         return out
 
-    def _correct(self, stroke: _Stroke, layout, state, budget) -> None:
-        """Retry a stroke that hit its target but missed the pocket, turning the object ball onto the line."""
-        res = stroke.result
-        hp = stroke.hp
-        if res is None or res.first_contact != hp.target or hp.kind is not ShotKind.DIRECT:
-            return
-        # where did the object ball end up relative to its planned line? (rest position, a proxy)
-        if hp.target in res.pocketed:
-            return
-        final_idx = res.final_ids.index(hp.target)
-        b0 = layout.positions[hp.target]
-        b1 = res.final.positions[final_idx]
-        moved = b1 - b0
-        if float(np.hypot(*moved)) < 0.05:
-            return
-        actual = math.atan2(moved[1], moved[0])
-        err = math.atan2(math.sin(actual - hp.object_angle), math.cos(actual - hp.object_angle))
-        if abs(err) > math.radians(15):  # bounced off something: the rest position says nothing
-            return
-        # object direction changes ~ (2r cos cut / D)-scaled with the cue angle; solve for the cue offset
-        r = layout.spec.ball_radius
-        gain = hp.cue_distance / (2 * r * max(math.cos(hp.cut_angle), 0.1))
-        fix = -err / max(gain, 1.0)
-        shot = Shot(stroke.shot.angle + fix, stroke.shot.speed, stroke.shot.side, stroke.shot.height)
-        result = self._simulate(layout, shot, budget)
-        if result is None:
-            return
-        turn = turn_outcome(result, state)
-        if turn.shot_succeeded:
-            stroke.shot, stroke.result, stroke.turn = shot, result, turn
-
-    def _value(self, result: ShotResult, turn: TurnResult, sigma: float) -> float:
-        if turn.outcome is Outcome.WIN:
-            return 1.0
-        return position_value(result.final, GameState(turn.group), sigma)
-
-    def _replay(self, chosen: list[_Stroke], layout, state, z: np.ndarray, sigma: float, budget) -> None:
-        """Noisy executions, one round over all strokes at a time, while the budget lasts."""
+    def _rescue(self, layout, state, targets, sigma) -> list[_Stroke]:
+        """No hitpoint pots: try shots at every legal ball over a range of cut offsets."""
         cfg = self.config
-        if self.noise.is_zero:
-            return
-        for k in range(len(z)):
-            for s in chosen:
-                if not budget.left():
-                    return
-                result = self._simulate(layout, self.noise.apply(s.shot, z[k]), budget)
-                s.runs += 1
-                if result is None:
-                    continue
-                turn = turn_outcome(result, state)
-                if turn.shot_succeeded:
-                    s.successes += 1
-                    s.score += 1.0 + cfg.lookahead * self._value(result, turn, sigma)
+        pos = layout.positions
+        c = pos[layout.cue_index]
+        r = layout.spec.ball_radius
+        meta, rows = [], []
+        fracs = np.linspace(-0.9, 0.9, 13)  # impact parameter as a fraction of 2r
+        for t in targets:
+            d = pos[t] - c
+            dist = float(np.hypot(*d))
+            base = math.atan2(d[1], d[0])
+            offsets = np.arcsin(np.clip(fracs * 2 * r / dist, -1, 1))
+            for speed in cfg.speeds:
+                meta.append((None, speed, 0.0, offsets, t))
+                rows.extend((base + o, speed, 0.0, 0.0, 0.0) for o in offsets)
+        strokes = self._fan_select(meta, np.array(rows).reshape(-1, 5), layout, state, sigma)
+        return strokes
 
-    def _safety(self, strokes: list[_Stroke], layout, state) -> list[Suggestion]:
-        """No pot found: a legal miss (own ball first, no foul) if one was seen, else the plain fallback."""
-        legal = [s for s in strokes if s.turn is not None and s.turn.outcome is Outcome.END_TURN]
-        if legal:
-            s = max(legal, key=lambda s: s.prior)
-            return [Suggestion(s.shot, s.hp.target, None, None, 0.0, 0.0, s.hp, safety=True)]
-        return [fallback_shot(layout, state, self.config.speeds[len(self.config.speeds) // 2])]
+    def _replay(self, strokes: list[_Stroke], layout, state, z: np.ndarray, sigma: float) -> None:
+        """Noisy executions of the verified strokes with shared draws ``z``."""
+        if self.noise.is_zero or len(z) == 0 or not strokes or time.perf_counter() > self._deadline:
+            return
+        shots = [self.noise.apply(s.shot, zk) for s in strokes for zk in z]
+        rows = np.array([(s.angle, s.speed, s.side, s.height, s.elevation) for s in shots])
+        first, pocket, final = self._run(layout, rows)
+        ok = self._success(first, pocket, layout, state)
+        n = len(z)
+        for i, s in enumerate(strokes):
+            for k in range(n):
+                row = i * n + k
+                s.runs += 1
+                if ok[row]:
+                    s.successes += 1
+                    if time.perf_counter() < self._deadline:
+                        v = self._value(layout, state, pocket[row], final[row], sigma)
+                    else:
+                        v = s.clean - 1.0
+                    s.score += 1.0 + self.config.lookahead * v
+
+    # ------------------------------------------------------------- helpers
+    def _run(self, layout: TableLayout, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Simulate strokes (m, 5): first contact (m,), pocket per ball (m, n), final centres (m, n, 2)."""
+        sim = self.simulator
+        if hasattr(sim, "simulate_arrays"):
+            out = sim.simulate_arrays(layout, rows)
+            failed = out.status != 0
+            first = np.where(failed, -1, out.first_contact)
+            pocket = out.pocket.copy()
+            pocket[failed, layout.cue_index] = 0  # a failed simulation counts as a scratch (no success)
+            return first, pocket, out.final_positions
+        m, n = len(rows), len(layout)
+        first = np.full(m, -1)
+        pocket = np.full((m, n), -1)
+        final = np.repeat(layout.positions[None], m, axis=0).copy()
+        for i, row in enumerate(rows):
+            shot = Shot(float(row[0]), float(max(row[1], 0.0)), float(row[2]), float(row[3]), float(row[4]))
+            try:
+                res = sim.simulate(layout, shot)
+            except RuntimeError:
+                pocket[i, layout.cue_index] = 0
+                continue
+            first[i] = -1 if res.first_contact is None else res.first_contact
+            for b, p in zip(res.pocketed, res.pocketed_into, strict=True):
+                pocket[i, b] = p
+            final[i, list(res.final_ids)] = res.final.positions
+        return first, pocket, final
+
+    @staticmethod
+    def _success(first: np.ndarray, pocket: np.ndarray, layout: TableLayout, state: GameState) -> np.ndarray:
+        """Legal pot of an own ball (or the winning 8), from lean outcome arrays.
+
+        Mirrors :func:`~pix2pockets.rules.turn_outcome` for the success case: a pot makes the
+        no-rail rule moot, so first contact, scratch, the 8 and own pots decide.
+        """
+        classes = np.array([b.ball_class.value for b in layout.balls])
+        cue, black = layout.cue_index, layout.black_index
+        potted = pocket >= 0
+        valid_first = first >= 0
+        hit = np.where(valid_first, classes[np.maximum(first, 0)], "")
+        if state.group is None:
+            own_mask = np.isin(classes, [BallClass.SOLID.value, BallClass.STRIPE.value])
+            legal_first = np.isin(hit, [BallClass.SOLID.value, BallClass.STRIPE.value])
+            cleared = False
+        else:
+            own_mask = classes == state.group.ball_class.value
+            cleared = not own_mask.any()
+            legal_first = hit == (BallClass.BLACK.value if cleared else state.group.ball_class.value)
+        no_foul = valid_first & legal_first & ~potted[:, cue]
+        black_potted = potted[:, black] if black is not None else np.zeros(len(first), dtype=bool)
+        if cleared:
+            return no_foul & black_potted
+        return no_foul & ~black_potted & np.any(potted & own_mask[None, :], axis=1)
+
+    def _value(self, layout: TableLayout, state: GameState, pocket_row, final_row, sigma: float) -> float:
+        """Next-shot value after a successful shot with these outcome rows."""
+        keep = pocket_row < 0
+        balls = [b for b, k in zip(layout.balls, keep, strict=True) if k]
+        if not any(b.ball_class is BallClass.BLACK for b in balls) and layout.black_index is not None:
+            return 1.0  # the 8 went down legally: game won
+        group = state.group
+        if group is None:  # open table: the first own pot decides; take the lowest potted object ball's group
+            potted = [layout.balls[i].group for i in np.flatnonzero(~keep)]
+            group = next((g for g in potted if g is not None), None)
+        own = [i for i, b in enumerate(balls) if group is not None and b.ball_class is group.ball_class]
+        if not own:
+            own = [i for i, b in enumerate(balls) if b.ball_class is BallClass.BLACK]
+        cue = next(i for i, b in enumerate(balls) if b.ball_class is BallClass.CUE)
+        return fast_position_value(final_row[keep], cue, own, layout.spec, sigma)
+
+    def _safety(self, layout: TableLayout, state: GameState, targets: list[int]) -> list[Suggestion]:
+        """Nothing pots: the first stroke at a legal ball that verifies as foul-free, else the plain fallback."""
+        pos = layout.positions
+        c = pos[layout.cue_index]
+        base = fallback_shot(layout, state, self.config.speeds[len(self.config.speeds) // 2])
+        order = sorted(targets, key=lambda t: float(np.hypot(*(pos[t] - c))))
+        for t in order[:4]:
+            for speed in self.config.speeds:
+                shot = Shot.toward(tuple(c), tuple(pos[t]), speed)
+                try:
+                    res = self.simulator.simulate(layout, shot)
+                except RuntimeError:
+                    continue
+                if turn_outcome(res, state).outcome is Outcome.END_TURN:
+                    return [Suggestion(shot, t, None, None, 0.0, 0.0, None, safety=True), base]
+        return [base]
+
+    @staticmethod
+    def _suggestion(s: _Stroke) -> Suggestion:
+        hp = s.hp
+        if hp is None:
+            return Suggestion(s.shot, s.target, None, None, s.p, s.ev, None)
+        return Suggestion(s.shot, hp.target, hp.pocket, hp.kind, s.p, s.ev, hp)
+
+
+def _longest_run(mask: np.ndarray) -> tuple[int, int]:
+    """Start and length of the longest run of True values."""
+    best_start, best_len, start = 0, 0, None
+    for i, v in enumerate(list(mask) + [False]):
+        if v and start is None:
+            start = i
+        elif not v and start is not None:
+            if i - start > best_len:
+                best_start, best_len = start, i - start
+            start = None
+    return best_start, best_len
+
+
+def _angle_p(margin: float, sigma: float) -> float:
+    """Probability that aim noise ``sigma`` stays inside a potting run of width ``margin`` [rad]."""
+    return math.erf(0.5 * margin / (sigma * math.sqrt(2.0)))
