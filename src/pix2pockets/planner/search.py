@@ -339,7 +339,7 @@ class SearchPlanner:
 def _longest_run(mask: np.ndarray) -> tuple[int, int]:
     """Start and length of the longest run of True values."""
     best_start, best_len, start = 0, 0, None
-    for i, v in enumerate(list(mask) + [False]):
+    for i, v in enumerate([*list(mask), False]):
         if v and start is None:
             start = i
         elif not v and start is not None:
