@@ -150,10 +150,14 @@ class SearchPlanner:
         r = layout.spec.ball_radius
         hps = find_hitpoints(layout, targets, kinds=cfg.kinds, max_cut=cfg.max_cut)
         priors = [pot_probability(h, r, sigma) for h in hps]
-        order = sorted(range(len(hps)), key=lambda i: -priors[i])[: cfg.max_candidates]
-        strokes = self._fan([hps[i] for i in order], layout, state, sigma)
-        if not strokes:
-            strokes = self._rescue(layout, state, targets, sigma)
+        order = sorted(range(len(hps)), key=lambda i: -priors[i])
+        strokes: list[_Stroke] = []
+        lo, hi = 0, cfg.max_candidates
+        while not strokes and lo < len(order) and time.perf_counter() < self._deadline:
+            strokes = self._fan([hps[i] for i in order[lo:hi]], layout, state, sigma)
+            lo, hi = hi, 3 * hi  # widen: the next candidates, more of them
+        if not strokes and time.perf_counter() < self._deadline:
+            strokes = self._sweep(layout, state, sigma)
         if not strokes:
             return self._safety(layout, state, targets)
         strokes.sort(key=lambda s: -s.clean * _angle_p(s.margin, sigma))
@@ -201,24 +205,25 @@ class SearchPlanner:
                 break
         return out
 
-    def _rescue(self, layout, state, targets, sigma) -> list[_Stroke]:
-        """No hitpoint pots: try shots at every legal ball over a range of cut offsets."""
+    def _sweep(self, layout, state, sigma) -> list[_Stroke]:
+        """No hitpoint pots: sweep the full circle of cue angles (finds multi-cushion kicks, combinations)."""
         cfg = self.config
-        pos = layout.positions
-        c = pos[layout.cue_index]
-        r = layout.spec.ball_radius
-        meta, rows = [], []
-        fracs = np.linspace(-0.9, 0.9, 13)  # impact parameter as a fraction of 2r
-        for t in targets:
-            d = pos[t] - c
-            dist = float(np.hypot(*d))
-            base = math.atan2(d[1], d[0])
-            offsets = np.arcsin(np.clip(fracs * 2 * r / dist, -1, 1))
-            for speed in cfg.speeds:
-                meta.append((None, speed, 0.0, offsets, t))
-                rows.extend((base + o, speed, 0.0, 0.0, 0.0) for o in offsets)
-        strokes = self._fan_select(meta, np.array(rows).reshape(-1, 5), layout, state, sigma)
-        return strokes
+        step = math.radians(0.25)
+        angles = np.arange(0.0, 2 * math.pi, step)
+        speeds = (cfg.speeds[len(cfg.speeds) // 2], cfg.speeds[-1])
+        rows = np.array([(a, v, 0.0, 0.0, 0.0) for v in speeds for a in angles])
+        first, pocket, final = self._run(layout, rows)
+        ok = self._success(first, pocket, layout, state)
+        out: list[_Stroke] = []
+        n = len(angles)
+        for j, speed in enumerate(speeds):
+            seg = ok[j * n : (j + 1) * n]
+            for start, length in _runs(seg):
+                centre = j * n + (start + (length - 1) // 2) % n
+                stroke = _Stroke(Shot(float(rows[centre, 0]), speed), None, int(first[centre]), length * step)
+                stroke.clean = 1.0 + cfg.lookahead * self._value(layout, state, pocket[centre], final[centre], sigma)
+                out.append(stroke)
+        return out
 
     def _replay(self, strokes: list[_Stroke], layout, state, z: np.ndarray, sigma: float) -> None:
         """Noisy executions of the verified strokes with shared draws ``z``."""
@@ -334,6 +339,23 @@ class SearchPlanner:
         if hp is None:
             return Suggestion(s.shot, s.target, None, None, s.p, s.ev, None)
         return Suggestion(s.shot, hp.target, hp.pocket, hp.kind, s.p, s.ev, hp)
+
+
+def _runs(mask: np.ndarray) -> list[tuple[int, int]]:
+    """(start, length) of every run of True values, treating ``mask`` as circular."""
+    m = np.asarray(mask, dtype=bool)
+    if m.all():
+        return [(0, len(m))]
+    shift = int(np.argmin(m))  # start the scan at a False so no run wraps
+    rolled = np.roll(m, -shift)
+    runs, start = [], None
+    for i, v in enumerate([*rolled.tolist(), False]):
+        if v and start is None:
+            start = i
+        elif not v and start is not None:
+            runs.append(((start + shift) % len(m), i - start))
+            start = None
+    return runs
 
 
 def _longest_run(mask: np.ndarray) -> tuple[int, int]:
