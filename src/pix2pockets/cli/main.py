@@ -15,7 +15,11 @@ from collections.abc import Sequence
 from pix2pockets import __version__
 
 # Sub-command modules, imported lazily so `pix2pockets --help` stays fast.
-COMMANDS: tuple[str, ...] = ("pix2pockets.cli.layout_cmd",)
+COMMANDS: tuple[str, ...] = (
+    "pix2pockets.cli.layout_cmd",
+    "pix2pockets.cli.evaluate_cmd",
+    "pix2pockets.cli.experiment_cmd",
+)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -47,6 +47,11 @@ class SearchConfig:
         physics: simulator backend name (``make_simulator``).
         noise: planning noise model name (``noise_model``); the planner prefers strokes that survive it.
         samples: noisy executions per verified stroke.
+        refine_top: the best strokes after the first replay get ``refine_samples`` more executions (less
+            winner's curse when picking among close candidates).
+        refine_samples: extra noisy executions for the ``refine_top`` strokes.
+        widen_below: expand more hitpoints while the best aim-fan success estimate is below this.
+        prior_weight: the success fraction is shrunk toward the aim-fan estimate with this many pseudo-runs.
         speeds: candidate cue-ball speeds [m/s].
         heights: vertical tip offsets (fraction of the radius; + follow, - draw) tried on direct shots.
         kinds: hitpoint kinds to consider.
@@ -62,6 +67,10 @@ class SearchConfig:
     physics: str = "event"
     noise: str = "fastfiz"
     samples: int = 8
+    refine_top: int = 3
+    refine_samples: int = 16
+    prior_weight: float = 2.0
+    widen_below: float = 0.8
     speeds: tuple[float, ...] = (1.0, 1.8, 3.0)
     heights: tuple[float, ...] = (0.0, 0.35, -0.35)
     kinds: tuple[ShotKind, ...] = (ShotKind.DIRECT, ShotKind.BANK, ShotKind.KICK)
@@ -102,14 +111,24 @@ class _Stroke:
     runs: int = 0
     successes: int = 0
     score: float = 0.0
+    prior_p: float = 1.0
+    prior_weight: float = 0.0
 
     @property
     def ev(self) -> float:
-        return (self.clean + self.score) / (1 + self.runs)
+        """Mean score of the clean and noisy runs, the success part shrunk toward the aim-fan prior."""
+        if not self.runs:
+            return self.clean
+        value = self.score / max(self.successes, 1) if self.successes else self.clean
+        return self.p * 0.5 * (value + self.clean)
 
     @property
     def p(self) -> float:
-        return self.successes / self.runs if self.runs else 1.0
+        """Estimated success probability (noisy replays shrunk toward the aim-fan prior)."""
+        if not self.runs:
+            return 1.0
+        w = self.prior_weight
+        return (self.successes + w * self.prior_p) / (self.runs + w)
 
 
 class SearchPlanner:
@@ -143,7 +162,7 @@ class SearchPlanner:
         if layout.cue_index is None:
             raise ValueError("cannot plan a shot: the layout has no cue ball")
         sigma = max(self.noise.angle_sigma, _MIN_SIGMA)
-        z = rng.standard_normal((cfg.samples, 5))
+        z = rng.standard_normal((cfg.samples + cfg.refine_samples, 5))
         targets = legal_targets(layout, state)
         if not targets:
             return [fallback_shot(layout, state, cfg.speeds[0])]
@@ -153,16 +172,25 @@ class SearchPlanner:
         order = sorted(range(len(hps)), key=lambda i: -priors[i])
         strokes: list[_Stroke] = []
         lo, hi = 0, cfg.max_candidates
-        while not strokes and lo < len(order) and time.perf_counter() < self._deadline:
-            strokes = self._fan([hps[i] for i in order[lo:hi]], layout, state, sigma)
-            lo, hi = hi, 3 * hi  # widen: the next candidates, more of them
+        rounds = 0
+        while lo < len(order) and time.perf_counter() < self._deadline:
+            strokes += self._fan([hps[i] for i in order[lo:hi]], layout, state, sigma)
+            lo, hi, rounds = hi, 3 * hi, rounds + 1  # widen: the next candidates, more of them
+            best = max((_angle_p(s.margin, sigma) for s in strokes), default=0.0)
+            if strokes and (best >= cfg.widen_below or rounds >= 2):
+                break
         if not strokes and time.perf_counter() < self._deadline:
             strokes = self._sweep(layout, state, sigma)
         if not strokes:
             return self._safety(layout, state, targets)
         strokes.sort(key=lambda s: -s.clean * _angle_p(s.margin, sigma))
         verified = strokes[: cfg.max_verified]
-        self._replay(verified, layout, state, z, sigma)
+        for s in verified:
+            s.prior_p = _angle_p(s.margin, sigma)
+            s.prior_weight = cfg.prior_weight
+        self._replay(verified, layout, state, z[: cfg.samples], sigma)
+        verified.sort(key=lambda s: (-s.ev, -s.p))
+        self._replay(verified[: cfg.refine_top], layout, state, z[cfg.samples :], sigma)
         verified.sort(key=lambda s: (-s.ev, -s.p))
         return [self._suggestion(s) for s in verified + strokes[cfg.max_verified :]]
 
