@@ -129,9 +129,19 @@ def _ball_shadow(px, py, pz, lx, ly, lz, lsize, balls, r, skip):
     uy = vy / D
     uz = vz / D
     f = 1.0
+    lift = lz - pz
     for j in range(balls.shape[0]):
         if j == skip:
             continue
+        # cheap cull: where the segment to the light crosses the ball centre's height, it must pass
+        # within a few radii of the centre (plus the penumbra of a large light)
+        tc = (balls[j, 2] - pz) / lift
+        if tc > 0.0:
+            qx = px + tc * vx - balls[j, 0]
+            qy = py + tc * vy - balls[j, 1]
+            lim = 2.0 * r + 2.0 * lsize * tc
+            if qx * qx + qy * qy > lim * lim:
+                continue
         wx = balls[j, 0] - px
         wy = balls[j, 1] - py
         wz = balls[j, 2] - pz
@@ -224,10 +234,12 @@ def render_scene(
     wall_tex,
     rgb,
     ids,
+    depth,
     sil_count,
 ):
-    """Trace and shade every pixel. Writes ``rgb`` (H, W, 3), ``ids`` (H, W) and ``sil_count`` (n balls,):
-    the number of pixels whose ray meets each ball's sphere at all (occluded or not)."""
+    """Trace and shade every pixel. Writes ``rgb`` (H, W, 3), ``ids`` (H, W), ``depth`` (H, W): distance
+    along the ray to the hit [m], and ``sil_count`` (n balls,): the number of pixels whose ray meets each
+    ball's sphere at all (occluded or not)."""
     L = geo[G_L]
     Wd = geo[G_W]
     h = geo[G_H]
@@ -399,7 +411,7 @@ def render_scene(
                             if 0.0 <= z <= h and geo[G_DC] <= y <= Wd - geo[G_DC]:
                                 best = t
                                 hit = ID_NOSE
-                                nx, ny, nz = (1.0 if side == 0 else -1.0), 0.0, 0.0
+                                nx, ny, nz = (0.95 if side == 0 else -0.95), 0.0, 0.3
                     # apron / outer rail faces and body, seen from outside
                     for layer in range(2):
                         off = rw if layer == 0 else rw - bi
@@ -437,7 +449,7 @@ def render_scene(
                             if 0.0 <= z <= h and (dcn <= x <= L * 0.5 - ssn or L * 0.5 + ssn <= x <= L - dcn):
                                 best = t
                                 hit = ID_NOSE
-                                nx, ny, nz = 0.0, (1.0 if side == 0 else -1.0), 0.0
+                                nx, ny, nz = 0.0, (0.95 if side == 0 else -0.95), 0.3
                     for layer in range(2):
                         off = rw if layer == 0 else rw - bi
                         yp2 = -off if side == 0 else Wd + off
@@ -462,6 +474,7 @@ def render_scene(
                     nx, ny, nz = 0.0, (1.0 if dy < 0.0 else -1.0), 0.0
 
             ids[v, u] = hit
+            depth[v, u] = best
             if hit == ID_NONE:
                 rgb[v, u, 0] = 0.0
                 rgb[v, u, 1] = 0.0
@@ -498,14 +511,14 @@ def render_scene(
                 sc = shade[S_CLOTH_SCALE]
                 n1 = _sample_tex2(noise, px * sc, py * sc)
                 n2 = _sample_tex2(noise, px * sc * 9.0 + 17.0, py * sc * 9.0 + 5.0)
-                f = 1.0 + shade[S_CLOTH_TEX] * (0.6 * n1 + 0.4 * n2)
+                f = 1.0 + shade[S_CLOTH_TEX] * (0.8 * n1 + 0.2 * n2)
                 ar = mats[M_CLOTH, 0] * f
                 ag = mats[M_CLOTH, 1] * f
                 ab = mats[M_CLOTH, 2] * f
                 if hit == ID_NOSE:
-                    ar *= 0.6
-                    ag *= 0.6
-                    ab *= 0.6
+                    ar *= 0.75
+                    ag *= 0.75
+                    ab *= 0.75
                 receives_ball_shadow = True
                 ks = shade[S_CLOTH_NAP]
                 shin = 4.0
@@ -548,8 +561,8 @@ def render_scene(
                 ks = 0.3
                 shin = 30.0
             elif hit == ID_HOLE:
-                depth = _hole_depth(ox, oy, oz, dx, dy, dz, best, holes, aux, zhb)
-                f = 0.45 * math.exp(-depth / 0.025)
+                hdepth = _hole_depth(ox, oy, oz, dx, dy, dz, best, holes, aux, zhb)
+                f = 0.45 * math.exp(-hdepth / 0.025)
                 ar = mats[M_LINER, 0] * f + 0.004
                 ag = mats[M_LINER, 1] * f + 0.004
                 ab = mats[M_LINER, 2] * f + 0.004
@@ -560,9 +573,11 @@ def render_scene(
                 ao = 0.6
             elif hit == ID_FLOOR:
                 fs = shade[S_FLOOR_SCALE]
-                ar = _sample_tex2(floor_tex[:, :, 0], px * fs, py * fs)
-                ag = _sample_tex2(floor_tex[:, :, 1], px * fs, py * fs)
-                ab = _sample_tex2(floor_tex[:, :, 2], px * fs, py * fs)
+                fi = math.floor(px * fs) % floor_tex.shape[0]
+                fj = math.floor(py * fs) % floor_tex.shape[1]
+                ar = floor_tex[fi, fj, 0] * (1.0 / 255.0)
+                ag = floor_tex[fi, fj, 1] * (1.0 / 255.0)
+                ab = floor_tex[fi, fj, 2] * (1.0 / 255.0)
                 # shadow under the table
                 ex = max(max(-rw - px, px - (L + rw)), 0.0)
                 ey = max(max(-rw - py, py - (Wd + rw)), 0.0)
@@ -571,17 +586,18 @@ def render_scene(
                 ks = 0.15
                 shin = 20.0
             elif hit == ID_WALL:
+                # unroll the walls so text reads left to right from inside the room
                 if abs(ny) > 0.5:
-                    s = (px - rx0) if ny > 0 else (rx1 - rx0) + (ry1 - ry0) + (rx1 - px)
+                    s = (rx1 - px) if ny > 0 else (rx1 - rx0) + (ry1 - ry0) + (px - rx0)
                 else:
-                    s = (rx1 - rx0) + (py - ry0) if nx < 0 else 2 * (rx1 - rx0) + (ry1 - ry0) + (ry1 - py)
+                    s = (rx1 - rx0) + (ry1 - py) if nx < 0 else 2 * (rx1 - rx0) + (ry1 - ry0) + (py - ry0)
                 hw = wall_tex.shape[0]
                 ww = wall_tex.shape[1]
                 tv = int(_clamp((zc - pz) / (zc - zf) * hw, 0.0, hw - 1.0))
                 tu = int(s / perim * ww) % ww
-                ar = wall_tex[tv, tu, 0] * mats[M_WALLTINT, 0]
-                ag = wall_tex[tv, tu, 1] * mats[M_WALLTINT, 1]
-                ab = wall_tex[tv, tu, 2] * mats[M_WALLTINT, 2]
+                ar = wall_tex[tv, tu, 0] * (mats[M_WALLTINT, 0] / 255.0)
+                ag = wall_tex[tv, tu, 1] * (mats[M_WALLTINT, 1] / 255.0)
+                ab = wall_tex[tv, tu, 2] * (mats[M_WALLTINT, 2] / 255.0)
             elif hit == ID_CEIL:
                 ar = mats[M_CEIL, 0]
                 ag = mats[M_CEIL, 1]

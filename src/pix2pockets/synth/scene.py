@@ -27,7 +27,7 @@ from pix2pockets.synth.palette import (
     jitter,
     weighted_choice,
 )
-from pix2pockets.synth.textures import floor_texture, value_noise, wall_texture, wood_grain
+from pix2pockets.synth.textures import TEXTURE_VARIANTS, cached_floor, cached_grain, cached_noise, cached_wall
 
 LIGHTING_KINDS: dict[str, float] = {"broadcast": 0.3, "pub_lamps": 0.35, "warm_pub": 0.15, "home": 0.2}
 ROOM_FOR_LIGHTING = {"broadcast": "arena", "pub_lamps": "pub", "warm_pub": "pub", "home": "home"}
@@ -44,7 +44,7 @@ class Scene:
         geo, shade, mats: flat parameter arrays (see ``raycast.G_*``, ``S_*``, ``M_*``).
         holes: pocket holes (6, 3): centre x, y [m] and radius [m].
         lights: point lights (m, 8): x, y, z [m], intensity, r, g, b, radius [m].
-        textures: noise, wood grain, floor and wall textures.
+        noise, grain: float tiles; floor_tex, wall_tex: uint8 RGB textures (shared, read-only caches).
         style: names of the drawn choices (cloth, rails, lighting, room, ...) for the label file.
     """
 
@@ -116,7 +116,7 @@ def _lights(rng: np.random.Generator, kind: str, spec: TableSpec) -> np.ndarray:
     L, W = spec.length, spec.width
     rows = []
     if kind == "broadcast":
-        n = int(rng.integers(3, 7))
+        n = int(rng.integers(2, 5))
         z = rng.uniform(2.5, 5.0)
         for i in range(n):
             x = L * (i + 0.5) / n + rng.normal(0, 0.1)
@@ -193,7 +193,7 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
     shade[rc.S_AMB] = {"broadcast": 0.35, "pub_lamps": 0.2, "warm_pub": 0.12, "home": 0.45}[lighting] * rng.uniform(
         0.7, 1.3
     )
-    shade[rc.S_CLOTH_TEX] = rng.uniform(0.03, 0.12)
+    shade[rc.S_CLOTH_TEX] = rng.uniform(0.02, 0.09)
     shade[rc.S_CLOTH_SCALE] = rng.uniform(60, 250)
     shade[rc.S_RAIL_TEX] = rng.uniform(0.6, 1.0) if is_wood else rng.uniform(0.0, 0.15)
     shade[rc.S_RAIL_GLOSS] = rng.uniform(0.05, 0.5)
@@ -251,9 +251,9 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
         mats=mats,
         holes=holes,
         lights=_lights(rng, lighting, spec),
-        noise=value_noise(rng, 256),
-        grain=wood_grain(rng, 256),
-        floor_tex=floor_texture(rng, 256),
-        wall_tex=wall_texture(rng, room),
+        noise=cached_noise(int(rng.integers(TEXTURE_VARIANTS))),
+        grain=cached_grain(int(rng.integers(TEXTURE_VARIANTS))),
+        floor_tex=cached_floor(int(rng.integers(TEXTURE_VARIANTS))),
+        wall_tex=cached_wall(room, int(rng.integers(TEXTURE_VARIANTS))),
         style=style,
     )

@@ -221,3 +221,34 @@ def digit_bitmaps(size: int = 32) -> np.ndarray:
             cv2.line(big, (org[0], org[1] + 10), (org[0] + tw, org[1] + 10), 255, 5)
         out[n] = cv2.resize(big, (size, size), interpolation=cv2.INTER_AREA) / 255.0
     return out
+
+
+TEXTURE_VARIANTS = 32
+"""Distinct textures of each kind; scenes pick one by index and tint it (cached: building walls is slow)."""
+
+_STYLE_CODE = {"arena": 1, "pub": 2, "home": 3}
+
+
+@functools.cache
+def cached_wall(style: str, key: int) -> np.ndarray:
+    """Wall strip ``key`` of a room style as uint8 RGB (built once from its own seed)."""
+    rng = np.random.default_rng([0x3A11, _STYLE_CODE[style], key])
+    return np.round(wall_texture(rng, style, 160, 1280) * 255).astype(np.uint8)
+
+
+@functools.cache
+def cached_floor(key: int) -> np.ndarray:
+    """Floor tile ``key`` as uint8 RGB."""
+    return np.round(floor_texture(np.random.default_rng([0xF100, key])) * 255).astype(np.uint8)
+
+
+@functools.cache
+def cached_noise(key: int) -> np.ndarray:
+    """Value-noise tile ``key`` (float32, [-1, 1])."""
+    return value_noise(np.random.default_rng([0x2015E, key]), 256)
+
+
+@functools.cache
+def cached_grain(key: int) -> np.ndarray:
+    """Wood-grain tile ``key`` (float32 around 1)."""
+    return wood_grain(np.random.default_rng([0x6A1, key]), 256)
