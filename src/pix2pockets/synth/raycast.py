@@ -22,7 +22,8 @@ from numba import njit
 # ---- geometry vector indices (metres, table frame)
 G_L, G_W, G_H, G_HR, G_CW, G_RW, G_ZA, G_BI, G_ZF, G_ZC = range(10)
 G_RX0, G_RX1, G_RY0, G_RY1, G_BR, G_LINER, G_DR, G_KC, G_KS, G_DC, G_SS, G_ZHB = range(10, 22)
-N_GEO = 22
+G_LEGS, G_LEGW, G_SKIRT = range(22, 25)  # legs: 0 closed cabinet, 4 or 6 legs; leg width, skirt depth [m]
+N_GEO = 25
 # ---- shading vector indices
 S_AMB, S_CLOTH_TEX, S_CLOTH_SCALE, S_RAIL_TEX, S_RAIL_GLOSS, S_RAIL_SHIN, S_BALL_KS, S_BALL_SHIN = range(8)
 S_FLOOR_SCALE, S_BOUNCE, S_DIA_SHAPE, S_CUE_DOTS, S_BAND, S_NUMR, S_REFL, S_ROOM = range(8, 16)
@@ -82,6 +83,19 @@ def _in_cushion(x, y, geo):
         o = -x if x < 0.0 else x - L
         return dc - kc * o <= y <= W - dc + kc * o
     return False
+
+
+@njit(cache=True)
+def _body_solid(along, lo, hi, z, za, geo):
+    """Whether the table body exists at this point of one of its faces (cabinet, or legs + skirt)."""
+    legs = geo[G_LEGS]
+    if legs < 0.5 or z > za - geo[G_SKIRT]:
+        return True
+    w = geo[G_LEGW]
+    if along - lo < w or hi - along < w:
+        return True
+    mid = 0.5 * (lo + hi)
+    return legs > 5.5 and abs(along - mid) < 0.5 * w and hi - lo > 2.0
 
 
 @njit(cache=True)
@@ -418,14 +432,18 @@ def render_scene(
                         xp2 = -off if side == 0 else L + off
                         outside = ox < xp2 if side == 0 else ox > xp2
                         toward = dx > 0.0 if side == 0 else dx < 0.0
-                        if outside and toward:
+                        if (outside and toward) or (layer == 1 and geo[G_LEGS] > 0.5):
                             t = (xp2 - ox) / dx
                             if 0.0 < t < best:
                                 z = oz + t * dz
                                 y = oy + t * dy
                                 lo = za if layer == 0 else zf
                                 hi = hr if layer == 0 else za
-                                if lo <= z <= hi and -off <= y <= Wd + off:
+                                if (
+                                    lo <= z <= hi
+                                    and -off <= y <= Wd + off
+                                    and (layer == 0 or _body_solid(y, -off, Wd + off, z, za, geo))
+                                ):
                                     best = t
                                     hit = ID_APRON if layer == 0 else ID_BODY
                                     nx, ny, nz = (-1.0 if side == 0 else 1.0), 0.0, 0.0
@@ -455,14 +473,18 @@ def render_scene(
                         yp2 = -off if side == 0 else Wd + off
                         outside = oy < yp2 if side == 0 else oy > yp2
                         toward = dy > 0.0 if side == 0 else dy < 0.0
-                        if outside and toward:
+                        if (outside and toward) or (layer == 1 and geo[G_LEGS] > 0.5):
                             t = (yp2 - oy) / dy
                             if 0.0 < t < best:
                                 z = oz + t * dz
                                 x = ox + t * dx
                                 lo = za if layer == 0 else zf
                                 hi = hr if layer == 0 else za
-                                if lo <= z <= hi and -off <= x <= L + off:
+                                if (
+                                    lo <= z <= hi
+                                    and -off <= x <= L + off
+                                    and (layer == 0 or _body_solid(x, -off, L + off, z, za, geo))
+                                ):
                                     best = t
                                     hit = ID_APRON if layer == 0 else ID_BODY
                                     nx, ny, nz = 0.0, (-1.0 if side == 0 else 1.0), 0.0

@@ -175,6 +175,11 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
     geo[rc.G_DC] = spec.corner_mouth / math.sqrt(2)
     geo[rc.G_SS] = spec.side_mouth / 2
     geo[rc.G_ZHB] = -0.12
+    geo[rc.G_LEGS] = float(rng.choice([0, 4, 6], p=[0.45, 0.35, 0.2]))
+    geo[rc.G_LEGW] = rng.uniform(0.1, 0.25)
+    geo[rc.G_SKIRT] = rng.uniform(0.06, 0.2)
+    if geo[rc.G_LEGS] > 0:  # legged tables sit under a shallower apron, legs just inside the rail
+        geo[rc.G_BI] = rng.uniform(0.03, 0.12)
 
     holes = np.zeros((6, 3))
     for k, pocket in enumerate(spec.pockets):

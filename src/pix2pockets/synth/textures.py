@@ -70,7 +70,7 @@ def wood_grain(rng: np.random.Generator, size: int = 256) -> np.ndarray:
 
 def floor_texture(rng: np.random.Generator, size: int = 256) -> np.ndarray:
     """A floor tile (RGB): wooden planks, carpet, tiles or concrete; covers about 2 m."""
-    kind = rng.choice(["planks", "carpet", "tiles", "concrete", "patterned"], p=[0.35, 0.25, 0.15, 0.15, 0.1])
+    kind = rng.choice(["planks", "carpet", "tiles", "concrete", "patterned"], p=[0.4, 0.27, 0.13, 0.14, 0.06])
     noise = value_noise(rng, size)
     if kind == "planks":
         base = jitter(rng, (0.45, 0.30, 0.17), 0.25)
