@@ -11,7 +11,7 @@ import numpy as np
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.table import TABLE_PRESETS, TableSpec
 from pix2pockets.synth import effects as fx
-from pix2pockets.synth import people
+from pix2pockets.synth import people, props
 from pix2pockets.synth import raycast as rc
 from pix2pockets.synth.cameras import VIEW_KINDS, sample_camera
 from pix2pockets.synth.labels import build_labels, camera_dict, sphere_outline_px
@@ -139,6 +139,30 @@ def _add_occluders(
     centres = scene.ball_centres
     spec = scene.spec
     phone = kind.startswith("phone")
+    lighting = scene.style.get("lighting")
+    # lamp shades over pub tables (a top-down camera hangs among or above them: skip there)
+    if lighting in ("pub_lamps", "warm_pub") and kind != "top" and rng.random() < 0.8:
+        people.draw_figure(img, mask, depth, cam, props.lamp_shades(rng, scene.lights, float(scene.geo[rc.G_ZC])))
+        used.append("lamps")
+    for _ in range(int(rng.poisson(0.8 if scene.style.get("room") != "arena" else 0.2))):
+        ang = rng.uniform(-np.pi, np.pi)
+        reach = scene.rail_width + rng.uniform(0.4, 2.0)
+        xy = spec.size / 2 + (spec.size / 2 + reach) * np.array([np.cos(ang), np.sin(ang)])
+        people.draw_figure(img, mask, depth, cam, props.bar_stool(rng, xy, scene.floor_z))
+        used.append("stool")
+    if rng.random() < 0.08:
+        xy = rng.uniform([0.2, 0.2], spec.size - 0.2)
+        people.draw_figure(img, mask, depth, cam, props.triangle_rack(rng, xy, 0.02, rng.uniform(0.3, 0.36)))
+        used.append("rack")
+    if scene.style.get("room") == "pub" and rng.random() < 0.25:
+        for _ in range(int(rng.integers(1, 3))):
+            k = int(rng.integers(4))
+            s = rng.uniform(0.05, 0.95)
+            off = scene.geo[rc.G_CW] + (scene.rail_width - scene.geo[rc.G_CW]) * 0.5
+            xy = [(s * spec.length, -off), (spec.length + off, s * spec.width), (s * spec.length, spec.width + off),
+                  (-off, s * spec.width)][k]  # fmt: skip
+            people.draw_figure(img, mask, depth, cam, props.glass(rng, np.array([*xy, scene.geo[rc.G_HR]])), 0.5)
+        used.append("glasses")
     if len(centres) and rng.random() < 0.4 * strength:
         cue_i = scene.layout.cue_index
         i = cue_i if cue_i is not None and rng.random() < 0.75 else int(rng.integers(len(centres)))
