@@ -23,15 +23,16 @@ from numba import njit
 G_L, G_W, G_H, G_HR, G_CW, G_RW, G_ZA, G_BI, G_ZF, G_ZC = range(10)
 G_RX0, G_RX1, G_RY0, G_RY1, G_BR, G_LINER, G_DR, G_KC, G_KS, G_DC, G_SS, G_ZHB = range(10, 22)
 G_LEGS, G_LEGW, G_SKIRT = range(22, 25)  # legs: 0 closed cabinet, 4 or 6 legs; leg width, skirt depth [m]
-N_GEO = 25
+G_RUGX, G_RUGY = range(25, 27)  # half-size of a rug under the table [m] (0: none)
+N_GEO = 27
 # ---- shading vector indices
 S_AMB, S_CLOTH_TEX, S_CLOTH_SCALE, S_RAIL_TEX, S_RAIL_GLOSS, S_RAIL_SHIN, S_BALL_KS, S_BALL_SHIN = range(8)
 S_FLOOR_SCALE, S_BOUNCE, S_DIA_SHAPE, S_CUE_DOTS, S_BAND, S_NUMR, S_REFL, S_ROOM = range(8, 16)
 S_CLOTH_NAP, S_AO = range(16, 18)
 N_SHADE = 18
 # ---- material rows
-M_CLOTH, M_RAIL, M_APRON, M_BODY, M_LINER, M_DIAMOND, M_CEIL, M_AMBCOL, M_WALLTINT = range(9)
-N_MATS = 9
+M_CLOTH, M_RAIL, M_APRON, M_BODY, M_LINER, M_DIAMOND, M_CEIL, M_AMBCOL, M_WALLTINT, M_RUG = range(10)
+N_MATS = 10
 
 # ---- object ids in the id buffer
 ID_NONE = 0
@@ -600,6 +601,13 @@ def render_scene(
                 ar = floor_tex[fi, fj, 0] * (1.0 / 255.0)
                 ag = floor_tex[fi, fj, 1] * (1.0 / 255.0)
                 ab = floor_tex[fi, fj, 2] * (1.0 / 255.0)
+                if abs(px - 0.5 * L) < geo[G_RUGX] and abs(py - 0.5 * Wd) < geo[G_RUGY]:
+                    rn = 1.0 + 0.25 * _sample_tex2(noise, px * 90.0, py * 90.0)
+                    border = min(geo[G_RUGX] - abs(px - 0.5 * L), geo[G_RUGY] - abs(py - 0.5 * Wd)) < 0.08
+                    rf = 0.5 if border else 1.0
+                    ar = mats[M_RUG, 0] * rn * rf + (0.3 if border else 0.0) * mats[M_RUG, 1]
+                    ag = mats[M_RUG, 1] * rn * rf
+                    ab = mats[M_RUG, 2] * rn * rf
                 # shadow under the table
                 ex = max(max(-rw - px, px - (L + rw)), 0.0)
                 ey = max(max(-rw - py, py - (Wd + rw)), 0.0)

@@ -15,6 +15,7 @@ from pix2pockets.geometry.table import TableSpec
 from pix2pockets.state.layout import TableLayout
 from pix2pockets.synth import raycast as rc
 from pix2pockets.synth.palette import (
+    ALT_BALL_COLOURS,
     BALL_COLOURS,
     CLOTH_COLOURS,
     CLOTH_WEIGHTS,
@@ -233,8 +234,16 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
     amb_col = {"warm_pub": (1.0, 0.85, 0.65), "home": (0.95, 0.97, 1.0)}.get(lighting, (1.0, 1.0, 1.0))
     mats[rc.M_AMBCOL] = jitter(rng, amb_col, 0.03)
     mats[rc.M_WALLTINT] = jitter(rng, (1.0, 1.0, 1.0), 0.05)
+    mats[rc.M_RUG] = rng.uniform(0.05, 0.6, 3) ** 1.3
+    if room != "arena" and rng.random() < 0.3:  # a rug under the table
+        geo[rc.G_RUGX] = L / 2 + rw + rng.uniform(0.2, 1.0)
+        geo[rc.G_RUGY] = W / 2 + rw + rng.uniform(0.2, 1.0)
 
-    ball_jitter = {n: tuple(jitter(rng, c, 0.07)) for n, c in BALL_COLOURS.items()}
+    base_colours = dict(BALL_COLOURS)
+    for n, alts in ALT_BALL_COLOURS.items():
+        if rng.random() < 0.2:
+            base_colours[n] = alts[int(rng.integers(len(alts)))]
+    ball_jitter = {n: tuple(jitter(rng, c, 0.07)) for n, c in base_colours.items()}
     ball_jitter[0] = tuple(jitter(rng, STRIPE_WHITE, 0.02))
 
     n = len(layout)
