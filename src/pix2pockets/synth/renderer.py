@@ -273,7 +273,7 @@ def render_views(seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, views: Sequen
     scene = sample_scene(r_scene, layout)
     out = []
     for view in views:
-        cam, kind = sample_camera(r_cam, spec, size, view, scene.floor_z, scene.rail_width)
+        cam, kind = sample_camera(r_cam, spec, size, view, scene.floor_z, scene.rail_width, crop=False)
         rend = render_scene_view(scene, cam, kind, r_fx, strength=0.3)
         rend.labels["layout_mode"] = mode
         rend.labels["view"] = view
