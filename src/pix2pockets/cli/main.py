@@ -17,6 +17,7 @@ from pix2pockets import __version__
 # Sub-command modules, imported lazily so `pix2pockets --help` stays fast.
 COMMANDS: tuple[str, ...] = (
     "pix2pockets.cli.layout_cmd",
+    "pix2pockets.cli.synth_cmd",
     "pix2pockets.cli.train_detector_cmd",
     "pix2pockets.cli.detect_cmd",
     "pix2pockets.cli.evaluate_cmd",
