@@ -20,6 +20,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--resume", action="store_true", help="continue from OUT/last.pt")
     parser.add_argument("--balls", action="append", default=[], help="ball-only YOLO dataset, e.g. real photos")
     parser.add_argument("--balls-class", type=int, default=0, help="class id of 'ball' in --balls sets (default 0)")
+    parser.add_argument(
+        "--balls-exclude", action="append", default=[], help="file-name glob of ball-only images to skip (repeatable)"
+    )
     parser.add_argument("--balls-fraction", type=float, default=0.25, help="ball-only images per epoch (fraction)")
     parser.add_argument("--batch", type=int, default=8, help="images per step (default 8)")
     parser.add_argument("--crop", type=int, default=320, help="training crop side in px (default 320)")
@@ -45,6 +48,7 @@ def run(args: argparse.Namespace) -> int:
         out=args.out,
         balls=tuple(args.balls),
         balls_class=args.balls_class,
+        balls_exclude=tuple(args.balls_exclude),
         epochs=args.epochs,
         seed=args.seed,
         batch=args.batch,
