@@ -148,6 +148,14 @@ def export_onnx(model: CenterNet, path: Path, example_hw: tuple[int, int] = (384
     return path
 
 
+def export_checkpoint(checkpoint: str | Path, onnx_path: str | Path) -> Path:
+    """Export the model of a ``last.pt`` checkpoint to ONNX (e.g. while training still runs)."""
+    state = torch.load(checkpoint, map_location="cpu", weights_only=False)
+    model = CenterNet(pretrained=False)
+    model.load_state_dict(state["model"])
+    return export_onnx(model.eval(), Path(onnx_path))
+
+
 def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path:
     """Train (or resume) and export; returns the ONNX path.
 
