@@ -21,6 +21,7 @@ COMMANDS: tuple[str, ...] = (
     "pix2pockets.cli.detect_cmd",
     "pix2pockets.cli.evaluate_cmd",
     "pix2pockets.cli.suggest_cmd",
+    "pix2pockets.cli.synth_cmd",
 )
 
 
