@@ -13,9 +13,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "Checkpoints go to OUT/last.pt every few minutes; --resume continues from there. Writes "
         "OUT/detector.onnx at the end (or when --max-minutes is reached).",
     )
-    parser.add_argument(
-        "--data", required=True, action="append", help="YOLO dataset with the five classes (repeatable)"
-    )
+    parser.add_argument("--data", action="append", default=[], help="YOLO dataset with the five classes (repeatable)")
     parser.add_argument("--out", required=True, help="output folder")
     parser.add_argument("--epochs", type=int, default=10, help="passes over the training images (default 10)")
     parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
@@ -31,6 +29,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--checkpoint-minutes", type=float, default=5.0, help="checkpoint interval (default 5)")
     parser.add_argument("--max-minutes", type=float, default=0.0, help="stop, checkpoint and export after this")
     parser.add_argument("--no-pretrained", action="store_true", help="random trunk init (no ImageNet weights)")
+    parser.add_argument("--init", default=None, help="start from the weights of this checkpoint (last.pt)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
@@ -57,6 +56,7 @@ def run(args: argparse.Namespace) -> int:
         checkpoint_minutes=args.checkpoint_minutes,
         max_minutes=args.max_minutes,
         pretrained=not args.no_pretrained,
+        init=args.init,
     )
     path = train(cfg, resume=args.resume, progress=not args.quiet)
     print(f"wrote {path}")

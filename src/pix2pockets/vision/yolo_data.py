@@ -93,7 +93,11 @@ def read_contacts(split: Path, stem: str, boxes: np.ndarray) -> np.ndarray:
             if p is not None:
                 out[i] = p
         return out
-    objs = [o for o in data.get("objects", data.get("balls", [])) if o.get("contact_px") is not None]
+    objs = [
+        o
+        for o in data.get("objects", data.get("balls", []))
+        if o.get("contact_px") is not None and o.get("labelled", True)
+    ]
     if objs and len(boxes):
         centres = (boxes[:, :2] + boxes[:, 2:]) / 2
         for o in objs:

@@ -11,6 +11,7 @@ import json
 import math
 import os
 import time
+import warnings
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -47,6 +48,7 @@ class TrainConfig:
         checkpoint_minutes: save ``last.pt`` at least this often [min].
         max_minutes: stop (checkpoint + export) after this much wall time in this run [min]; 0 = no limit.
         pretrained: start the trunk from ImageNet weights.
+        init: start from the model weights of this checkpoint (``last.pt`` of an earlier run).
     """
 
     data: tuple[str, ...]
@@ -64,11 +66,12 @@ class TrainConfig:
     checkpoint_minutes: float = 5.0
     max_minutes: float = 0.0
     pretrained: bool = True
+    init: str | None = None
     augment: AugmentConfig = field(default_factory=AugmentConfig)
 
     def __post_init__(self) -> None:
-        if not self.data:
-            raise ValueError("train-detector needs at least one --data folder")
+        if not self.data and not self.balls:
+            raise ValueError("train-detector needs at least one --data (or --balls) folder")
         if self.epochs < 1 or self.batch < 1 or self.threads < 1:
             raise ValueError("epochs, batch and threads must be >= 1")
         if self.crop % 32 or self.crop < 64:
@@ -120,7 +123,8 @@ def export_onnx(model: CenterNet, path: Path, example_hw: tuple[int, int] = (384
     wrapper = ExportWrapper(model).eval()
     x = torch.zeros(1, 3, *example_hw)
     tmp = path.with_name(path.name + ".tmp")
-    with torch.no_grad():
+    with torch.no_grad(), warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)  # the TorchScript exporter needs no onnxscript
         torch.onnx.export(
             wrapper,
             (x,),
@@ -148,7 +152,9 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
     main, balls = _load_sources(cfg)
     model = CenterNet(pretrained=cfg.pretrained)
     opt = torch.optim.AdamW([p for p in model.parameters() if p.requires_grad], lr=cfg.lr, weight_decay=1e-4)
-    n_balls = min(len(balls), round(cfg.balls_fraction * len(main)))
+    if cfg.init and not resume:
+        model.load_state_dict(torch.load(cfg.init, map_location="cpu", weights_only=False)["model"])
+    n_balls = min(len(balls), round(cfg.balls_fraction * len(main))) if main else len(balls)
     per_epoch = len(main) + n_balls
     steps_per_epoch = max(1, per_epoch // cfg.batch)
     total = steps_per_epoch * cfg.epochs
