@@ -17,6 +17,7 @@ from pix2pockets import __version__
 
 # Sub-command modules, imported lazily so `pix2pockets --help` stays fast.
 
+
 def discover_commands() -> tuple[str, ...]:
     """Sub-command modules: every ``pix2pockets.cli.*_cmd`` module, sorted by name."""
     package = importlib.import_module("pix2pockets.cli")
