@@ -13,7 +13,7 @@ The method follows the paper (section 5.1) and makes it robust to missing dots:
    table frame with its handedness reversed in pixel coordinates (``v`` down).
 3. **Corners.** Where two adjacent rails each have at least two dots, their lines intersect in a corner of
    the diamond rectangle, ``(-s, -s)`` ... ``(L + s, W + s)`` for the diamond setback ``s``, on the rail
-   cap at ``cushion_height`` (not at the cushion nose corners). The corners are validated (convex,
+   cap at :func:`diamond_height` (not at the cushion nose corners). The corners are validated (convex,
    in a plausible region around the image, consistent with the fitted table) and added to the points.
 4. **Homography and camera.** A robust homography (``cv2.USAC_MAGSAC``) from all matched points, then
    the camera (focal length, pose) from it, refined on the points at their true height
@@ -45,6 +45,17 @@ RAIL_DIAMONDS: tuple[tuple[int, ...], ...] = ((0, 1, 2, 3, 4, 5), (6, 7, 8), (9,
 MIN_DOTS = 4
 MAX_DOTS = 40  # more candidates than this are cut by confidence (false positives)
 MAX_HYPOTHESES = 2000  # rail-assignment hypotheses tried before giving up on better ones
+
+
+DIAMOND_RISE = 0.0075
+"""Height of the rail cap (where the diamonds sit) above the cushion nose [m]. Rail caps stand a few
+millimetres above the nose; 7.5 mm is the middle of the synthetic renderer's 3-12 mm range. A wrong
+height shifts located balls by about the error x tan(camera tilt), so it matters for low views."""
+
+
+def diamond_height(spec: TableSpec) -> float:
+    """Height of the diamond centres above the cloth [m]: ``cushion_height + DIAMOND_RISE``."""
+    return spec.cushion_height + DIAMOND_RISE
 
 
 class TableFitError(ValueError):
@@ -426,6 +437,7 @@ def fit_table(
     spec: TableSpec | None = None,
     tol_px: float | None = None,
     focal_prior_px: float | None = None,
+    diamond_z: float | None = None,
 ) -> TableFit:
     """Fit the table from dot detections.
 
@@ -435,6 +447,7 @@ def fit_table(
         spec: the table (default 9-foot).
         tol_px: line inlier tolerance [px] (default: from the dot spacing and image size).
         focal_prior_px: prior focal length [px] for near-top views (default: the larger image side).
+        diamond_z: height of the diamond centres above the cloth [m] (default :func:`diamond_height`).
 
     Raises:
         TableFitError: too few dots, no consistent rails, or an implausible table.
@@ -459,7 +472,7 @@ def fit_table(
     if sum(len(x) >= 2 for x in lines) < 2:
         raise TableFitError("too few table points: diamonds on at least two rails are needed")
     index = label_dots(pts, lines, spec)
-    h = spec.cushion_height
+    h = diamond_height(spec) if diamond_z is None else float(diamond_z)
     m = index >= 0
     world = spec.diamonds[index[m]]
     image = pts[m]
