@@ -28,10 +28,8 @@ from scipy.optimize import linear_sum_assignment
 
 from pix2pockets.geometry import TableSpec, table_preset
 from pix2pockets.state import random_layout
-from pix2pockets.vision.analytic import analytic_detections, standard_views
+from pix2pockets.vision.analytic import analytic_detections, detections_from_synth_labels, standard_views
 from pix2pockets.vision.ball_location import LocateMethod, locate_balls
-from pix2pockets.vision.classes import DOT_ID
-from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.table_fit import TableFitError, fit_table
 
 METHODS = (LocateMethod.SPHERE, LocateMethod.CONTACT, LocateMethod.LINEAR)
@@ -82,23 +80,6 @@ def run(sets: int, noise: float, seed: int) -> dict:
     return summarise(truth_err, v2v, {"sets": sets, "noise_px": noise, "seed": seed, "fit_failures": failures})
 
 
-def detections_from_labels(labels: dict) -> Detections:
-    """A perfect detector's output for a render: labelled balls (visible boxes) and labelled diamonds."""
-    boxes, cls, contact = [], [], []
-    for b in labels["balls"]:
-        if b["labelled"]:
-            boxes.append(b["box_px"])
-            cls.append(b["class_id"])
-            contact.append(b["contact_px"])
-    for d in labels["diamonds"]:
-        if d["labelled"]:
-            boxes.append(d["box_px"])
-            cls.append(DOT_ID)
-            contact.append([np.nan, np.nan])
-    n = len(boxes)
-    return Detections(np.array(boxes).reshape(-1, 4), np.ones(n), np.array(cls), np.array(contact).reshape(-1, 2))
-
-
 def run_rendered(sets: int, seed: int, known_height: bool, size: tuple[int, int]) -> dict:
     from pix2pockets.synth.renderer import render_views
 
@@ -113,7 +94,7 @@ def run_rendered(sets: int, seed: int, known_height: bool, size: tuple[int, int]
             lab = rend.labels
             spec = table_preset(lab["table"]["name"])
             scale = TableSpec().length / spec.length  # errors scaled to a 9-ft table, as in the paper
-            det = detections_from_labels(lab)
+            det = detections_from_synth_labels(lab)
             truth = np.array([b["centre_table_m"][:2] for b in lab["balls"] if b["labelled"]])
             z = lab["heights_m"]["diamonds"] if known_height else None
             try:

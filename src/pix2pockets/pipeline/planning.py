@@ -15,7 +15,7 @@ import numpy as np
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.pipeline.result import ShotAdvice
 from pix2pockets.rules import GameState
-from pix2pockets.state import BallClass, Group, TableLayout
+from pix2pockets.state import BallClass, Group, Shot, TableLayout
 
 
 @runtime_checkable
@@ -111,6 +111,7 @@ def advice_from_candidate(candidate: Any, layout: TableLayout, group: Group) -> 
         object_path=object_path,
         ghost=ghost,
         safety=safety,
+        stroke=shot if isinstance(shot, Shot) else None,
     )
 
 

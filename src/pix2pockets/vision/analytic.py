@@ -75,3 +75,30 @@ def analytic_detections(
     c = det.centres
     inside = (c[:, 0] >= 0) & (c[:, 0] < w) & (c[:, 1] >= 0) & (c[:, 1] < h) & np.all(np.isfinite(c), axis=1)
     return det[inside]
+
+
+def detections_from_synth_labels(labels: dict, silhouette: bool = False) -> Detections:
+    """A perfect detector's output for a synthetic render's label dict (see ``docs/synth.md``).
+
+    Labelled balls give their visible boxes (or their full silhouette boxes with ``silhouette``) and
+    contact points; labelled diamonds give their boxes.
+    """
+    boxes, cls, contact = [], [], []
+    for b in labels["balls"]:
+        if b["labelled"]:
+            box = b["silhouette_box_px"] if silhouette and b.get("silhouette_box_px") else b["box_px"]
+            boxes.append(box)
+            cls.append(int(b["class_id"]))
+            contact.append(b["contact_px"])
+    for d in labels["diamonds"]:
+        if d["labelled"]:
+            boxes.append(d["box_px"])
+            cls.append(DOT_ID)
+            contact.append([np.nan, np.nan])
+    n = len(boxes)
+    return Detections(
+        np.array(boxes, dtype=float).reshape(-1, 4),
+        np.ones(n),
+        np.array(cls, dtype=int),
+        np.array(contact).reshape(-1, 2),
+    )
