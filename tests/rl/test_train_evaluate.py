@@ -55,7 +55,7 @@ def test_train_save_load_evaluate(algo, env_id, tmp_path):
     assert meta.choice.continuous == ALGOS[algo].continuous
     assert meta.choice.mask == ("direct" if algo == "maskable-ppo" else None)
     monitor = (tmp_path / algo / "monitor.csv").read_text().splitlines()
-    assert "shots" in monitor[1] and len(monitor) > 3
+    assert "ep_shots" in monitor[1] and len(monitor) > 3
     result = evaluate_model(str(path), episodes=20, seed=3)
     assert result.shot_success.trials >= 20
     assert 0.0 <= result.shot_success.ci95[0] <= result.shot_success.rate <= result.shot_success.ci95[1] <= 1.0

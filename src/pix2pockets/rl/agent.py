@@ -53,7 +53,8 @@ class RLAgent:
         if layout.cue_index is None:
             raise ValueError("the layout has no cue ball: nothing to shoot with")
         action = self.action_for(layout, group)
-        return self._env.get_wrapper_attr("action_to_shot")(action)
+        # The env's action map without execution noise: the intended stroke.
+        return self._env.unwrapped.actions.to_shot(np.asarray(action))
 
     __call__ = suggest
 

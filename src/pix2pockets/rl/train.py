@@ -4,7 +4,7 @@ A run directory holds:
 
 - ``config.json``: the :class:`TrainConfig` (a resumed run must match it),
 - ``monitor.csv``: SB3 ``Monitor`` rows, one per episode (reward ``r``, length ``l``, wall time ``t``, and
-  ``shots`` / ``successes`` / ``won``), appended to across resumes,
+  ``ep_shots`` / ``ep_successes`` / ``ep_won``), appended to across resumes,
 - ``checkpoint.zip``: the latest model every ``checkpoint_every`` steps (no replay buffer: off-policy runs
   resume with an empty buffer, which refills within ``learning_starts`` + a few thousand steps),
 - ``model.zip``: the final agent (an agent file, see :mod:`pix2pockets.rl.bundle`),
