@@ -72,10 +72,8 @@ def load_agent(path: str | Path) -> RLAgent:
     from pix2pockets.rl import require_rl
 
     require_rl()
-    import torch
+    from pix2pockets.rl.algos import configure_torch, load_model
 
-    from pix2pockets.rl.algos import load_model
-
-    torch.set_num_threads(1)
+    configure_torch()
     meta = read_meta(path)
     return RLAgent(load_model(meta.algo, str(path)), meta)
