@@ -90,6 +90,14 @@ def model_steps(path: Path) -> int:
     return read_meta(path).steps
 
 
+def agent_file(run_dir: Path) -> Path | None:
+    """The run's final agent, else its latest checkpoint (a run cut short), else ``None``."""
+    for name in ("model.zip", "checkpoint.zip"):
+        if (run_dir / name).exists():
+            return run_dir / name
+    return None
+
+
 def do_train(args: argparse.Namespace) -> None:
     for run in select(args):
         out = Path(args.root) / run.name
@@ -135,9 +143,9 @@ def do_evaluate(args: argparse.Namespace) -> None:
                 str(out),
             )
     for run in select(args):
-        model = root / run.name / "model.zip"
+        model = agent_file(root / run.name)
         out = root / run.name / "eval.json"
-        if not model.exists():
+        if model is None:
             continue
         if out.exists() and json.loads(out.read_text())["trained_steps"] >= model_steps(model):
             continue
@@ -198,8 +206,8 @@ def do_plot(args: argparse.Namespace) -> None:
 
 def do_list(args: argparse.Namespace) -> None:
     for run in select(args):
-        model = Path(args.root) / run.name / "model.zip"
-        state = f"{model_steps(model)} steps" if model.exists() else "not started"
+        model = agent_file(Path(args.root) / run.name)
+        state = f"{model_steps(model)} steps ({model.name})" if model else "not started"
         print(f"{run.name:32s} {state}")
 
 
