@@ -1,0 +1,167 @@
+"""Write a YOLO dataset in the Roboflow export layout, plus one JSON label file per image.
+
+Layout::
+
+    OUT/data.yaml                       names [cue, black, solid, stripe, dot], nc 5, split paths
+    OUT/{train,valid,test}/images/*.jpg
+    OUT/{train,valid,test}/labels/*.txt  one "class cx cy w h" row per object (normalised)
+    OUT/{train,valid,test}/meta/*.json   full labels (see docs/synth.md)
+    OUT/manifest.json                   seed, size, counts, split of every image
+
+Sample ``i`` is rendered from the seed sequence ``(seed, i)``, so any image can be reproduced alone.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+from collections.abc import Sequence
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from pix2pockets.synth.labels import yolo_lines
+from pix2pockets.synth.render import DEFAULT_SIZE, Render, render, render_views
+from pix2pockets.vision.classes import CLASS_NAMES
+
+SPLITS = ("train", "valid", "test")
+JPEG_QUALITY = 93
+
+
+def parse_split(text: str) -> tuple[float, float, float]:
+    """Parse ``"0.8,0.1,0.1"`` into three non-negative fractions summing to 1."""
+    try:
+        parts = tuple(float(v) for v in text.split(","))
+    except ValueError:
+        raise ValueError(f"split must be three numbers like 0.8,0.1,0.1, got {text!r}") from None
+    if len(parts) != 3 or min(parts) < 0 or abs(sum(parts) - 1.0) > 1e-6:
+        raise ValueError(f"split must be three non-negative fractions summing to 1, got {text!r}")
+    return parts  # type: ignore[return-value]
+
+
+def split_assignment(n: int, fractions: Sequence[float], seed: int) -> list[str]:
+    """Split name for each of ``n`` scenes: exact counts by rounding, shuffled by ``seed``."""
+    counts = [round(n * f) for f in fractions]
+    counts[0] = n - counts[1] - counts[2]
+    if counts[0] < 0:
+        counts[0], counts[2] = 0, n - counts[1]
+    names = [s for s, c in zip(SPLITS, counts, strict=True) for _ in range(c)]
+    rng = np.random.default_rng([int(seed), 0x5EED])
+    rng.shuffle(names)
+    return names
+
+
+def data_yaml() -> str:
+    """The Roboflow-style ``data.yaml`` text (split paths relative to the yaml's folder)."""
+    names = ", ".join(CLASS_NAMES)
+    return (
+        "train: train/images\n"
+        "val: valid/images\n"
+        "test: test/images\n\n"
+        f"nc: {len(CLASS_NAMES)}\n"
+        f"names: [{names}]\n\n"
+        "# pix2pockets synthetic renders; boxes = visible extent of each ball, dots padded to >= 4 px.\n"
+    )
+
+
+def _write_one(root: Path, split: str, stem: str, rend: Render) -> None:
+    bgr = cv2.cvtColor(rend.image, cv2.COLOR_RGB2BGR)
+    if not cv2.imwrite(str(root / split / "images" / f"{stem}.jpg"), bgr, [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY]):
+        raise OSError(f"could not write image {stem}.jpg")
+    rows = yolo_lines(rend.labels)
+    (root / split / "labels" / f"{stem}.txt").write_text("".join(r + "\n" for r in rows))
+    meta = dict(rend.labels, image=f"{stem}.jpg", split=split)
+    (root / split / "meta" / f"{stem}.json").write_text(json.dumps(meta, indent=1))
+
+
+def write_dataset(
+    out_dir: str | os.PathLike,
+    n: int,
+    seed: int = 0,
+    size: tuple[int, int] = DEFAULT_SIZE,
+    views: int = 1,
+    split: Sequence[float] = (0.8, 0.1, 0.1),
+    force: bool = False,
+    progress: bool = False,
+) -> dict:
+    """Render ``n`` scenes into a YOLO dataset at ``out_dir``.
+
+    Args:
+        out_dir: output folder; must be empty or absent unless ``force`` (then it is cleared).
+        n: number of scenes; with ``views == 3`` each scene gives three images (top, ~45 deg, front).
+        seed: dataset seed; scene ``i`` uses the seed sequence ``(seed, i)``.
+        size: image (width, height) [px].
+        views: 1 (one random camera per scene) or 3 (multi-view sets).
+        split: train/valid/test fractions; all views of a scene share a split.
+        force: overwrite a non-empty ``out_dir``.
+        progress: show a tqdm progress bar.
+
+    Returns:
+        The manifest (also written to ``out_dir/manifest.json``).
+    """
+    if n < 1:
+        raise ValueError(f"n must be at least 1, got {n}")
+    if views not in (1, 3):
+        raise ValueError(f"views must be 1 or 3, got {views}")
+    if seed < 0:
+        raise ValueError(f"seed must be non-negative, got {seed}")
+    fractions = tuple(float(f) for f in split)
+    if len(fractions) != 3 or min(fractions) < 0 or abs(sum(fractions) - 1) > 1e-6:
+        raise ValueError(f"split must be three non-negative fractions summing to 1, got {split!r}")
+    root = Path(out_dir)
+    if root.exists() and not root.is_dir():
+        raise ValueError(f"{root} exists and is not a directory")
+    if root.exists() and any(root.iterdir()):
+        if not force:
+            raise ValueError(f"{root} is not empty; use --force to overwrite")
+        shutil.rmtree(root)
+    tmp = root.with_name(root.name + ".partial")
+    if tmp.exists():
+        shutil.rmtree(tmp)
+    for s in SPLITS:
+        for sub in ("images", "labels", "meta"):
+            (tmp / s / sub).mkdir(parents=True, exist_ok=True)
+    assignment = split_assignment(n, fractions, seed)
+    items = []
+    iterator = range(n)
+    if progress:
+        from tqdm import tqdm
+
+        iterator = tqdm(iterator, desc="synth", unit="scene" if views > 1 else "img")
+    try:
+        for i in iterator:
+            s = assignment[i]
+            if views == 1:
+                rend = render((seed, i), size)
+                stem = f"synth_{seed}_{i:06d}"
+                _write_one(tmp, s, stem, rend)
+                items.append({"image": f"{s}/images/{stem}.jpg", "scene": i, "camera": rend.labels["camera"]["kind"]})
+            else:
+                for rend in render_views((seed, i), size):
+                    stem = f"synth_{seed}_{i:06d}_{rend.labels['view']}"
+                    rend.labels["scene_id"] = i
+                    _write_one(tmp, s, stem, rend)
+                    items.append({"image": f"{s}/images/{stem}.jpg", "scene": i, "view": rend.labels["view"]})
+        manifest = {
+            "generator": "pix2pockets.synth",
+            "seed": seed,
+            "n_scenes": n,
+            "views": views,
+            "size": list(size),
+            "split": list(fractions),
+            "classes": list(CLASS_NAMES),
+            "box_convention": "visible extent of each ball (clipped to the image); dots: projected sight, >= 4 px",
+            "counts": {s: sum(1 for it in items if it["image"].startswith(s + "/")) for s in SPLITS},
+            "images": items,
+        }
+        (tmp / "manifest.json").write_text(json.dumps(manifest, indent=1))
+        (tmp / "data.yaml").write_text(data_yaml())
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    if root.exists():
+        root.rmdir()
+    tmp.rename(root)
+    return manifest

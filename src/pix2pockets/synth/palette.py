@@ -1,0 +1,99 @@
+"""Colours of the things on and around a pool table (RGB in [0, 1], display space).
+
+Every palette entry is a base colour; scenes jitter it (see :func:`jitter`) so no two ball sets, cloths or
+rails look exactly alike.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+BALL_COLOURS: dict[int, tuple[float, float, float]] = {
+    0: (0.93, 0.92, 0.86),  # cue: off-white
+    1: (0.98, 0.76, 0.04),  # yellow
+    2: (0.05, 0.16, 0.62),  # blue
+    3: (0.86, 0.07, 0.05),  # red
+    4: (0.33, 0.10, 0.52),  # purple
+    5: (0.98, 0.40, 0.04),  # orange
+    6: (0.02, 0.42, 0.18),  # green
+    7: (0.47, 0.06, 0.07),  # maroon
+    8: (0.025, 0.025, 0.03),  # black
+}
+"""Standard ball colours by number (stripes 9-15 use the colour of ``number - 8`` as their band)."""
+
+STRIPE_WHITE = (0.92, 0.91, 0.85)
+
+CLOTH_COLOURS: dict[str, tuple[float, float, float]] = {
+    "tournament_blue": (0.07, 0.30, 0.62),
+    "electric_blue": (0.05, 0.38, 0.75),
+    "green": (0.06, 0.40, 0.16),
+    "english_green": (0.10, 0.45, 0.12),
+    "teal": (0.04, 0.40, 0.42),
+    "red": (0.55, 0.06, 0.07),
+    "burgundy": (0.36, 0.05, 0.10),
+    "grey": (0.36, 0.38, 0.40),
+    "purple": (0.30, 0.12, 0.42),
+    "black": (0.08, 0.08, 0.09),
+    "tan": (0.55, 0.45, 0.30),
+}
+CLOTH_WEIGHTS = {
+    "tournament_blue": 4.0,
+    "electric_blue": 1.5,
+    "green": 4.0,
+    "english_green": 1.5,
+    "teal": 1.0,
+    "red": 1.5,
+    "burgundy": 1.0,
+    "grey": 1.0,
+    "purple": 0.6,
+    "black": 0.3,
+    "tan": 0.3,
+}
+
+RAIL_MATERIALS: dict[str, tuple[float, float, float]] = {
+    "dark_wood": (0.22, 0.11, 0.05),
+    "mid_wood": (0.42, 0.24, 0.11),
+    "light_wood": (0.62, 0.45, 0.27),
+    "black": (0.05, 0.05, 0.055),
+    "grey": (0.38, 0.39, 0.40),
+    "white": (0.88, 0.88, 0.86),
+    "silver": (0.62, 0.63, 0.65),
+}
+RAIL_WEIGHTS = {
+    "dark_wood": 3.0,
+    "mid_wood": 2.0,
+    "light_wood": 1.0,
+    "black": 3.0,
+    "grey": 1.0,
+    "white": 1.2,
+    "silver": 0.6,
+}
+WOOD_RAILS = ("dark_wood", "mid_wood", "light_wood")
+
+LINER_COLOURS = (
+    (0.03, 0.03, 0.03),  # black rubber / plastic
+    (0.20, 0.11, 0.05),  # brown leather
+    (0.55, 0.55, 0.56),  # chrome/plastic corner caps
+    (0.10, 0.10, 0.10),
+)
+
+DIAMOND_COLOURS = (
+    (0.95, 0.95, 0.92),  # white plastic
+    (0.92, 0.89, 0.80),  # mother of pearl
+    (0.80, 0.78, 0.72),  # ivory
+    (0.85, 0.75, 0.45),  # brass
+)
+
+
+def weighted_choice(rng: np.random.Generator, weights: dict[str, float]) -> str:
+    """One key of ``weights`` drawn with probability proportional to its weight."""
+    keys = list(weights)
+    p = np.array([weights[k] for k in keys], dtype=float)
+    return keys[int(rng.choice(len(keys), p=p / p.sum()))]
+
+
+def jitter(rng: np.random.Generator, colour: tuple[float, float, float], amount: float) -> np.ndarray:
+    """``colour`` with per-channel multiplicative jitter of relative size ``amount`` and a brightness change."""
+    c = np.asarray(colour, dtype=float)
+    c = c * (1.0 + amount * rng.normal(0.0, 1.0, 3)) * (1.0 + 0.5 * amount * rng.normal())
+    return np.clip(c, 0.0, 1.0)

@@ -1,0 +1,232 @@
+"""Render one labelled sample from a seed: layout -> scene -> camera -> ray cast -> occluders -> camera
+pipeline -> labels."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from pix2pockets.geometry.camera import PinholeCamera
+from pix2pockets.geometry.table import TABLE_PRESETS, TableSpec
+from pix2pockets.synth import effects as fx
+from pix2pockets.synth import raycast as rc
+from pix2pockets.synth.cameras import VIEW_KINDS, sample_camera
+from pix2pockets.synth.labels import build_labels, camera_dict, sphere_outline_px
+from pix2pockets.synth.layouts import sample_layout
+from pix2pockets.synth.scene import Scene, sample_scene
+from pix2pockets.synth.textures import digit_bitmaps
+
+DEFAULT_SIZE = (960, 540)
+TABLE_SIZES = {"9ft": 0.55, "8ft": 0.25, "7ft": 0.20}
+
+Seed = int | Sequence[int]
+
+
+@dataclass(frozen=True, eq=False)
+class Render:
+    """One rendered image with everything known about it.
+
+    Attributes:
+        image: RGB uint8 (H, W, 3).
+        ids: object id per pixel from the ray caster (H, W) int16 (``raycast.ID_*``), before 2-D occluders.
+        occluded: pixels covered by 2-D occluders and overlays (H, W) bool.
+        labels: the label dict written as JSON (see ``docs/synth.md``).
+    """
+
+    image: np.ndarray
+    ids: np.ndarray
+    occluded: np.ndarray
+    labels: dict
+
+
+def _streams(seed: Seed, n: int) -> list[np.random.Generator]:
+    entropy = [int(seed)] if np.isscalar(seed) else [int(s) for s in seed]
+    if any(s < 0 for s in entropy):
+        raise ValueError(f"seed must be non-negative, got {seed!r}")
+    return [np.random.default_rng(s) for s in np.random.SeedSequence(entropy).spawn(n)]
+
+
+def parse_size(text: str) -> tuple[int, int]:
+    """Parse ``"960x540"`` into (width, height)."""
+    try:
+        w, h = (int(v) for v in text.lower().split("x"))
+    except ValueError:
+        raise ValueError(f"image size must look like 960x540, got {text!r}") from None
+    if not (16 <= w <= 8192 and 16 <= h <= 8192):
+        raise ValueError(f"image size {w}x{h} out of range (16-8192 px per side)")
+    return w, h
+
+
+def trace(scene: Scene, cam: PinholeCamera) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Ray cast ``scene`` through ``cam``: raw RGB (H, W, 3) float32, ids (H, W) int16, silhouette
+    pixel counts per ball (n,)."""
+    w, h = cam.image_size
+    centres = scene.ball_centres
+    n = len(centres)
+    bboxes = np.full((n, 4), -1, np.int64)
+    for i, c in enumerate(centres):
+        outline = sphere_outline_px(cam, c, scene.spec.ball_radius)
+        if outline is None:
+            if cam.world_to_camera(c)[2] > -scene.spec.ball_radius:
+                bboxes[i] = [0, 0, w, h]
+            continue
+        lo = np.floor(outline.min(axis=0)) - 2
+        hi = np.ceil(outline.max(axis=0)) + 2
+        bboxes[i] = [max(lo[0], -1), max(lo[1], -1), min(hi[0], w + 1), min(hi[1], h + 1)]
+    cols, kinds, nums = scene.ball_arrays()
+    rgb = np.zeros((h, w, 3), np.float32)
+    ids = np.zeros((h, w), np.int16)
+    sil = np.zeros(n, np.int64)
+    rc.render_scene(
+        np.linalg.inv(cam.K),
+        cam.R.T.copy(),
+        cam.position,
+        w,
+        h,
+        scene.geo,
+        scene.shade,
+        scene.mats,
+        scene.holes,
+        scene.spec.diamonds.astype(np.float64),
+        centres.reshape(-1, 3).astype(np.float64),
+        scene.rotations.reshape(-1, 3, 3).astype(np.float64),
+        cols,
+        kinds,
+        nums,
+        bboxes,
+        scene.lights,
+        digit_bitmaps(),
+        scene.noise,
+        scene.grain,
+        scene.floor_tex,
+        scene.wall_tex,
+        rgb,
+        ids,
+        sil,
+    )
+    return rgb, ids, sil
+
+
+def _exposure(scene: Scene, rgb: np.ndarray, ids: np.ndarray) -> float:
+    """Auto-exposure: put the median lit cloth (or the median image) near mid-grey brightness."""
+    table = (ids == rc.ID_CLOTH) | (ids == rc.ID_CUSHION)
+    lum = rgb.mean(axis=2)
+    ref = float(np.median(lum[table])) if table.sum() > 200 else float(np.median(lum))
+    cloth_albedo = float(scene.mats[rc.M_CLOTH].mean())
+    target = np.clip(cloth_albedo, 0.08, 0.5) * 1.1 if table.sum() > 200 else 0.35
+    return float(target / max(ref, 1e-4))
+
+
+def _add_occluders(
+    img: np.ndarray, scene: Scene, cam: PinholeCamera, kind: str, rng: np.random.Generator, strength: float
+) -> tuple[np.ndarray, list[str]]:
+    h, w = img.shape[:2]
+    mask = np.zeros((h, w), bool)
+    used = []
+    centres = scene.ball_centres
+    phone = kind.startswith("phone")
+    if len(centres) and rng.random() < 0.35 * strength:
+        i = int(rng.integers(len(centres)))
+        fx.draw_cue_stick(img, mask, rng, cam, centres[i, :2])
+        used.append("cue_stick")
+        if rng.random() < 0.5:
+            fx.draw_arm(img, mask, rng, cam.project(centres[i]))
+            used.append("arm")
+    if rng.random() < (0.3 if phone else 0.18) * strength:
+        fx.draw_person(img, mask, rng)
+        used.append("person")
+    if rng.random() < 0.1 * strength:
+        fx.draw_arm(img, mask, rng, None)
+        used.append("arm")
+    if rng.random() < 0.25 * strength:
+        spec = scene.spec
+        k = int(rng.integers(4))
+        s = rng.uniform(0.05, 0.95)
+        off = scene.geo[rc.G_CW] + (scene.rail_width - scene.geo[rc.G_CW]) * rng.uniform(0.2, 0.8)
+        xy = [(s * spec.length, -off), (spec.length + off, s * spec.width), (s * spec.length, spec.width + off),
+              (-off, s * spec.width)][k]  # fmt: skip
+        fx.draw_chalk(img, mask, rng, cam, np.array([xy[0], xy[1], scene.geo[rc.G_HR]]))
+        used.append("chalk")
+    if not phone and rng.random() < 0.3 * strength:
+        fx.draw_scoreboard(img, mask, rng)
+        used.append("scoreboard")
+    if rng.random() < 0.15 * strength:
+        fx.draw_logo(img, mask, rng)
+        used.append("logo")
+    return mask, used
+
+
+def render_scene_view(
+    scene: Scene, cam: PinholeCamera, kind: str, rng: np.random.Generator, strength: float = 1.0
+) -> Render:
+    """Render ``scene`` through ``cam`` with occluders and the camera pipeline drawn from ``rng``."""
+    raw, ids, sil = trace(scene, cam)
+    exposure = _exposure(scene, raw, ids) * rng.uniform(0.75, 1.3)
+    img = fx.tone_map(raw, exposure, rng.uniform(0.85, 1.2), rng.uniform(0.75, 1.25))
+    occluded, used = _add_occluders(img, scene, cam, kind, rng, strength)
+    image, pipeline = fx.camera_pipeline(img, rng, strength)
+    labels = build_labels(scene, cam, ids, occluded, sil)
+    labels["image_size"] = list(cam.image_size)
+    labels["camera"] = camera_dict(cam, kind)
+    labels["style"] = {k: v for k, v in scene.style.items() if k != "ball_jitter"}
+    labels["effects"] = {"exposure": round(exposure, 4), "occluders": used, **pipeline}
+    return Render(image=image, ids=ids, occluded=occluded, labels=labels)
+
+
+def _spec(rng: np.random.Generator) -> TableSpec:
+    keys = list(TABLE_SIZES)
+    p = np.array([TABLE_SIZES[k] for k in keys])
+    return TABLE_PRESETS[keys[int(rng.choice(len(keys), p=p / p.sum()))]]
+
+
+def render(seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, camera_kind: str | None = None) -> Render:
+    """Render the sample of ``seed`` (same seed -> identical pixels and labels).
+
+    Args:
+        seed: non-negative int or sequence of ints (e.g. ``(dataset_seed, index)``).
+        size: (width, height) [px].
+        camera_kind: force a camera kind (see ``cameras.CAMERA_KINDS``); random when ``None``.
+    """
+    r_layout, r_scene, r_cam, r_fx = _streams(seed, 4)
+    spec = _spec(r_layout)
+    layout, mode = sample_layout(r_layout, spec)
+    scene = sample_scene(r_scene, layout)
+    cam, kind = sample_camera(r_cam, spec, size, camera_kind, scene.floor_z, scene.rail_width)
+    out = render_scene_view(scene, cam, kind, r_fx)
+    out.labels["layout_mode"] = mode
+    out.labels["seed"] = [int(seed)] if np.isscalar(seed) else [int(s) for s in seed]
+    return out
+
+
+def render_sample(
+    seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, camera_kind: str | None = None
+) -> tuple[np.ndarray, dict]:
+    """One labelled synthetic photo: (RGB uint8 image (H, W, 3), label dict). Deterministic in ``seed``.
+
+    Example:
+        >>> image, labels = render_sample(7, size=(320, 180))
+        >>> image.shape
+        (180, 320, 3)
+    """
+    out = render(seed, size, camera_kind)
+    return out.image, out.labels
+
+
+def render_views(seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, views: Sequence[str] = VIEW_KINDS) -> list[Render]:
+    """One layout and scene seen from several cameras (default top, ~45 degrees, front) for the
+    view-to-view projection-error experiment. Effects are lighter than in single views."""
+    r_layout, r_scene, r_cam, r_fx = _streams(seed, 4)
+    spec = _spec(r_layout)
+    layout, mode = sample_layout(r_layout, spec)
+    scene = sample_scene(r_scene, layout)
+    out = []
+    for view in views:
+        cam, kind = sample_camera(r_cam, spec, size, view, scene.floor_z, scene.rail_width)
+        rend = render_scene_view(scene, cam, kind, r_fx, strength=0.3)
+        rend.labels["layout_mode"] = mode
+        rend.labels["view"] = view
+        rend.labels["seed"] = [int(seed)] if np.isscalar(seed) else [int(s) for s in seed]
+        out.append(rend)
+    return out

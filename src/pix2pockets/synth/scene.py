@@ -1,0 +1,259 @@
+"""A renderable scene: table build, materials, lights, room and balls (everything but the camera).
+
+:func:`sample_scene` draws all appearance choices from one ``np.random.Generator``; the result packs them
+into the flat arrays :func:`pix2pockets.synth.raycast.render_scene` takes.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pix2pockets.geometry.table import TableSpec
+from pix2pockets.state.layout import TableLayout
+from pix2pockets.synth import raycast as rc
+from pix2pockets.synth.palette import (
+    BALL_COLOURS,
+    CLOTH_COLOURS,
+    CLOTH_WEIGHTS,
+    DIAMOND_COLOURS,
+    LINER_COLOURS,
+    RAIL_MATERIALS,
+    RAIL_WEIGHTS,
+    STRIPE_WHITE,
+    WOOD_RAILS,
+    jitter,
+    weighted_choice,
+)
+from pix2pockets.synth.textures import floor_texture, value_noise, wall_texture, wood_grain
+
+LIGHTING_KINDS: dict[str, float] = {"broadcast": 0.3, "pub_lamps": 0.35, "warm_pub": 0.15, "home": 0.2}
+ROOM_FOR_LIGHTING = {"broadcast": "arena", "pub_lamps": "pub", "warm_pub": "pub", "home": "home"}
+
+
+@dataclass(frozen=True, eq=False)
+class Scene:
+    """Everything needed to render a table except the camera.
+
+    Attributes:
+        spec: the table (playing-surface size, pockets, diamonds).
+        layout: balls and their centres in the table frame [m].
+        rotations: per-ball rotation world -> ball frame (n, 3, 3) (orients numbers and stripe bands).
+        geo, shade, mats: flat parameter arrays (see ``raycast.G_*``, ``S_*``, ``M_*``).
+        holes: pocket holes (6, 3): centre x, y [m] and radius [m].
+        lights: point lights (m, 8): x, y, z [m], intensity, r, g, b, radius [m].
+        textures: noise, wood grain, floor and wall textures.
+        style: names of the drawn choices (cloth, rails, lighting, room, ...) for the label file.
+    """
+
+    spec: TableSpec
+    layout: TableLayout
+    rotations: np.ndarray
+    geo: np.ndarray
+    shade: np.ndarray
+    mats: np.ndarray
+    holes: np.ndarray
+    lights: np.ndarray
+    noise: np.ndarray
+    grain: np.ndarray
+    floor_tex: np.ndarray
+    wall_tex: np.ndarray
+    style: dict = field(default_factory=dict)
+
+    @property
+    def ball_centres(self) -> np.ndarray:
+        """Ball centres in 3-D [m], shape (n, 3): on the cloth, so z = ball radius."""
+        pos = self.layout.positions
+        return np.column_stack([pos, np.full(len(pos), self.spec.ball_radius)])
+
+    @property
+    def rail_width(self) -> float:
+        return float(self.geo[rc.G_RW])
+
+    @property
+    def floor_z(self) -> float:
+        return float(self.geo[rc.G_ZF])
+
+    def ball_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Band/base colours (n, 3), kinds (n,) and numbers (n,) of the balls for the ray caster."""
+        jit = self.style.get("ball_jitter", {})
+        cols, kinds, nums = [], [], []
+        for ball in self.layout.balls:
+            n = int(ball.number)
+            base = n - 8 if n > 8 else n
+            cols.append(jit.get(base, BALL_COLOURS[base]))
+            kinds.append(rc.BALL_CUE if n == 0 else rc.BALL_STRIPE if n > 8 else rc.BALL_SOLID)
+            nums.append(n)
+        return (
+            np.array(cols, dtype=np.float64).reshape(-1, 3),
+            np.array(kinds, dtype=np.int64),
+            np.array(nums, dtype=np.int64),
+        )
+
+
+def random_rotation(rng: np.random.Generator) -> np.ndarray:
+    """A uniformly random rotation matrix (3, 3)."""
+    q = rng.normal(size=4)
+    q /= np.linalg.norm(q)
+    w, x, y, z = q
+    return np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+            [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+            [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+
+
+def _jaw_slope(angle: float) -> float:
+    """How far a cushion end moves toward the pocket per metre behind the nose, for a jaw angle [rad]."""
+    return -math.cos(angle) / math.sin(angle)
+
+
+def _lights(rng: np.random.Generator, kind: str, spec: TableSpec) -> np.ndarray:
+    L, W = spec.length, spec.width
+    rows = []
+    if kind == "broadcast":
+        n = int(rng.integers(3, 7))
+        z = rng.uniform(2.5, 5.0)
+        for i in range(n):
+            x = L * (i + 0.5) / n + rng.normal(0, 0.1)
+            for y in (W * 0.3, W * 0.7) if rng.random() < 0.5 else (W / 2,):
+                rows.append([x, y + rng.normal(0, 0.1), z, 1.0, 1.0, 1.0, 1.0, rng.uniform(0.2, 0.6)])
+    elif kind in ("pub_lamps", "warm_pub"):
+        n = int(rng.integers(1, 4))
+        z = rng.uniform(0.75, 1.3)
+        colour = (1.0, 0.86, 0.62) if kind == "warm_pub" else jitter(rng, (1.0, 0.97, 0.92), 0.03)
+        for i in range(n):
+            x = L * (i + 0.5) / n + rng.normal(0, 0.05)
+            rows.append([x, W / 2 + rng.normal(0, 0.05), z, 1.0, *colour, rng.uniform(0.04, 0.25)])
+    else:  # home: a big soft window/ceiling light off to one side, plus a weak lamp
+        side = rng.choice([-1.0, 1.0])
+        rows.append([L * rng.uniform(0.2, 0.8), W / 2 + side * rng.uniform(1.0, 3.0), rng.uniform(1.5, 2.5), 1.2,
+                     *jitter(rng, (0.95, 0.97, 1.0), 0.03), rng.uniform(0.5, 1.2)])  # fmt: skip
+        if rng.random() < 0.6:
+            rows.append([L / 2, W / 2, rng.uniform(1.2, 2.0), 0.5, 1.0, 0.92, 0.8, 0.2])
+    arr = np.array(rows, dtype=np.float64)
+    arr[:, 3] /= arr[:, 3].sum() ** 0.7  # several lights: brighter, but not linearly
+    return arr
+
+
+def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec | None = None) -> Scene:
+    """Draw table build, materials, lighting and room for ``layout`` (its own spec unless ``spec``)."""
+    spec = spec or layout.spec
+    L, W = spec.length, spec.width
+    lighting = weighted_choice(rng, LIGHTING_KINDS)
+    room = ROOM_FOR_LIGHTING[lighting]
+    if room == "pub" and rng.random() < 0.3:
+        room = "home"
+    cloth_name = weighted_choice(rng, CLOTH_WEIGHTS)
+    rail_name = weighted_choice(rng, RAIL_WEIGHTS)
+
+    geo = np.zeros(rc.N_GEO)
+    geo[rc.G_L], geo[rc.G_W] = L, W
+    geo[rc.G_H] = spec.cushion_height
+    geo[rc.G_HR] = spec.cushion_height + rng.uniform(0.003, 0.012)
+    geo[rc.G_CW] = rng.uniform(0.04, 0.055)
+    rw = float(np.clip(spec.rail_width * rng.uniform(0.9, 1.45), spec.diamond_setback + 0.025, 0.22))
+    geo[rc.G_RW] = rw
+    geo[rc.G_ZA] = -rng.uniform(0.1, 0.3)
+    geo[rc.G_BI] = rng.uniform(0.02, 0.3)
+    zf = -rng.uniform(0.74, 0.80)
+    geo[rc.G_ZF] = zf
+    geo[rc.G_ZC] = zf + rng.uniform(2.5, 4.0)
+    geo[rc.G_RX0] = -rw - rng.uniform(1.0, 4.0)
+    geo[rc.G_RX1] = L + rw + rng.uniform(1.0, 4.0)
+    geo[rc.G_RY0] = -rw - rng.uniform(1.0, 4.0)
+    geo[rc.G_RY1] = W + rw + rng.uniform(1.0, 4.0)
+    geo[rc.G_BR] = spec.ball_radius
+    geo[rc.G_LINER] = rng.uniform(0.006, 0.025)
+    geo[rc.G_DR] = rng.uniform(0.0055, 0.0085)
+    geo[rc.G_KC] = _jaw_slope(spec.corner_jaw_angle)
+    geo[rc.G_KS] = _jaw_slope(spec.side_jaw_angle)
+    geo[rc.G_DC] = spec.corner_mouth / math.sqrt(2)
+    geo[rc.G_SS] = spec.side_mouth / 2
+    geo[rc.G_ZHB] = -0.12
+
+    holes = np.zeros((6, 3))
+    for k, pocket in enumerate(spec.pockets):
+        if pocket.kind.value == "corner":
+            corner = np.round(pocket.jaws.mean(axis=0) / spec.size) * spec.size
+            out = np.sign(corner - spec.size / 2) / math.sqrt(2)
+            holes[k, :2] = corner + out * rng.uniform(0.035, 0.05)
+            holes[k, 2] = rng.uniform(0.058, 0.068)
+        else:
+            out = -1.0 if pocket.aim[1] < W / 2 else 1.0
+            holes[k, :2] = [L / 2, pocket.aim[1] + out * rng.uniform(0.045, 0.058)]
+            holes[k, 2] = rng.uniform(0.055, 0.064)
+
+    is_wood = rail_name in WOOD_RAILS
+    shade = np.zeros(rc.N_SHADE)
+    shade[rc.S_AMB] = {"broadcast": 0.35, "pub_lamps": 0.2, "warm_pub": 0.12, "home": 0.45}[lighting] * rng.uniform(
+        0.7, 1.3
+    )
+    shade[rc.S_CLOTH_TEX] = rng.uniform(0.03, 0.12)
+    shade[rc.S_CLOTH_SCALE] = rng.uniform(60, 250)
+    shade[rc.S_RAIL_TEX] = rng.uniform(0.6, 1.0) if is_wood else rng.uniform(0.0, 0.15)
+    shade[rc.S_RAIL_GLOSS] = rng.uniform(0.05, 0.5)
+    shade[rc.S_RAIL_SHIN] = rng.uniform(15, 80)
+    shade[rc.S_BALL_KS] = rng.uniform(0.5, 1.3)
+    shade[rc.S_BALL_SHIN] = rng.uniform(60, 500)
+    shade[rc.S_FLOOR_SCALE] = rng.uniform(60, 200)
+    shade[rc.S_BOUNCE] = rng.uniform(0.1, 0.4)
+    shade[rc.S_DIA_SHAPE] = float(rng.choice([0, 1, 2], p=[0.5, 0.3, 0.2]))
+    shade[rc.S_CUE_DOTS] = float(rng.random() < 0.2)
+    shade[rc.S_BAND] = rng.uniform(0.42, 0.6)
+    shade[rc.S_NUMR] = math.cos(rng.uniform(0.33, 0.45))
+    shade[rc.S_REFL] = rng.uniform(0.3, 1.0)
+    shade[rc.S_ROOM] = {"arena": rng.uniform(0.0, 0.1), "pub": rng.uniform(0.05, 0.3), "home": rng.uniform(0.2, 0.6)}[
+        room
+    ]
+    shade[rc.S_CLOTH_NAP] = rng.uniform(0.0, 0.06)
+    shade[rc.S_AO] = rng.uniform(0.35, 0.75)
+
+    mats = np.zeros((rc.N_MATS, 3))
+    mats[rc.M_CLOTH] = jitter(rng, CLOTH_COLOURS[cloth_name], 0.12)
+    mats[rc.M_RAIL] = jitter(rng, RAIL_MATERIALS[rail_name], 0.1)
+    mats[rc.M_APRON] = (
+        mats[rc.M_RAIL] * rng.uniform(0.6, 1.0)
+        if rng.random() < 0.7
+        else jitter(rng, RAIL_MATERIALS[weighted_choice(rng, RAIL_WEIGHTS)], 0.1)
+    )
+    mats[rc.M_BODY] = mats[rc.M_APRON] * rng.uniform(0.3, 0.8)
+    mats[rc.M_LINER] = jitter(rng, LINER_COLOURS[int(rng.integers(len(LINER_COLOURS)))], 0.1)
+    mats[rc.M_DIAMOND] = jitter(rng, DIAMOND_COLOURS[int(rng.integers(len(DIAMOND_COLOURS)))], 0.03)
+    mats[rc.M_CEIL] = jitter(rng, (0.3, 0.3, 0.3) if room != "arena" else (0.02, 0.02, 0.03), 0.3)
+    amb_col = {"warm_pub": (1.0, 0.85, 0.65), "home": (0.95, 0.97, 1.0)}.get(lighting, (1.0, 1.0, 1.0))
+    mats[rc.M_AMBCOL] = jitter(rng, amb_col, 0.03)
+    mats[rc.M_WALLTINT] = jitter(rng, (1.0, 1.0, 1.0), 0.05)
+
+    ball_jitter = {n: tuple(jitter(rng, c, 0.07)) for n, c in BALL_COLOURS.items()}
+    ball_jitter[0] = tuple(jitter(rng, STRIPE_WHITE, 0.02))
+
+    n = len(layout)
+    rotations = np.array([random_rotation(rng) for _ in range(n)]).reshape(n, 3, 3)
+    style = {
+        "cloth": cloth_name,
+        "rail": rail_name,
+        "lighting": lighting,
+        "room": room,
+        "diamond_shape": ["round", "rhombus", "pearl"][int(shade[rc.S_DIA_SHAPE])],
+        "ball_jitter": ball_jitter,
+    }
+    return Scene(
+        spec=spec,
+        layout=layout,
+        rotations=rotations,
+        geo=geo,
+        shade=shade,
+        mats=mats,
+        holes=holes,
+        lights=_lights(rng, lighting, spec),
+        noise=value_noise(rng, 256),
+        grain=wood_grain(rng, 256),
+        floor_tex=floor_texture(rng, 256),
+        wall_tex=wall_texture(rng, room),
+        style=style,
+    )

@@ -1,0 +1,69 @@
+"""The dataset writer: Roboflow/YOLO layout, labels in range, determinism, refusing non-empty folders."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from pix2pockets.cli.main import main
+from pix2pockets.synth import write_dataset
+from pix2pockets.synth.dataset import parse_split, split_assignment
+
+SIZE = (192, 108)
+
+
+def test_layout_and_labels(tmp_path):
+    out = tmp_path / "ds"
+    manifest = write_dataset(out, 5, seed=2, size=SIZE)
+    assert (out / "data.yaml").read_text().count("names: [cue, black, solid, stripe, dot]") == 1
+    assert sum(manifest["counts"].values()) == 5
+    for item in manifest["images"]:
+        img = out / item["image"]
+        assert img.exists()
+        split = item["image"].split("/")[0]
+        lab = out / split / "labels" / (img.stem + ".txt")
+        meta = json.loads((out / split / "meta" / (img.stem + ".json")).read_text())
+        assert meta["camera"]["image_size"] == list(SIZE)
+        assert len(meta["diamonds"]) == 18 and len(meta["corners"]) == 4
+        rows = [r.split() for r in lab.read_text().splitlines()]
+        assert len(rows) == sum(b["labelled"] for b in meta["balls"]) + sum(d["labelled"] for d in meta["diamonds"])
+        for r in rows:
+            assert 0 <= int(r[0]) <= 4
+            cx, cy, w, h = (float(v) for v in r[1:])
+            assert 0 <= cx <= 1 and 0 <= cy <= 1 and 0 < w <= 1 and 0 < h <= 1
+
+
+def test_deterministic_bytes(tmp_path):
+    write_dataset(tmp_path / "a", 2, seed=9, size=SIZE)
+    write_dataset(tmp_path / "b", 2, seed=9, size=SIZE)
+    for f in (tmp_path / "a").rglob("*.jpg"):
+        assert f.read_bytes() == (tmp_path / "b" / f.relative_to(tmp_path / "a")).read_bytes()
+
+
+def test_multi_view_dataset(tmp_path):
+    manifest = write_dataset(tmp_path / "mv", 1, seed=1, size=SIZE, views=3)
+    assert sorted(it["view"] for it in manifest["images"]) == ["front", "high", "top"]
+
+
+def test_refuses_non_empty(tmp_path, capsys):
+    out = tmp_path / "full"
+    out.mkdir()
+    (out / "x.txt").write_text("keep")
+    rc = main(["synth", "--n", "1", "--out", str(out), "--size", "64x36", "--no-progress"])
+    assert rc == 2
+    assert "not empty" in capsys.readouterr().err
+    assert (out / "x.txt").read_text() == "keep"
+    rc = main(["synth", "--n", "1", "--out", str(out), "--size", "64x36", "--no-progress", "--force"])
+    assert rc == 0 and not (out / "x.txt").exists()
+
+
+@pytest.mark.parametrize("bad", ["0.8,0.2", "0.5,0.5,0.5", "a,b,c", "-0.1,0.6,0.5"])
+def test_bad_split(bad):
+    with pytest.raises(ValueError):
+        parse_split(bad)
+
+
+def test_split_counts():
+    names = split_assignment(100, (0.8, 0.1, 0.1), 0)
+    assert names.count("train") == 80 and names.count("valid") == 10 and names.count("test") == 10
