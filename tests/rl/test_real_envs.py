@@ -80,3 +80,13 @@ def test_max_power_mask_on_real_env():
     layout = TableLayout((Ball.numbered(0), Ball.numbered(8)), np.array([[0.6, 0.5], [1.9, 0.6]]))
     env.reset(options={"layout": layout, "group": group})
     env.close()
+
+
+def test_agent_as_pipeline_planner(masked_one_ball):
+    from pix2pockets.rules import GameState
+
+    planner = load_agent(masked_one_ball).as_planner()
+    layout = TableLayout((Ball.numbered(0),), np.array([[0.6, 0.5]]))
+    (candidate,) = planner.suggest(layout, GameState(None))
+    assert isinstance(candidate.shot, Shot)
+    assert candidate.safety == (candidate.target is None)
