@@ -137,7 +137,7 @@ def create_app(
     example = Path(example_photo) if example_photo is not None else Path(example_photo_path())
     page = _page().replace("{{MAX_UPLOAD_BYTES}}", str(max_upload_bytes)).replace("{{VERSION}}", __version__)
     slots: dict[str, Any] = {"detector": detector, "planner": planner}
-    busy = threading.Lock()  # one photo at a time: the pipeline already uses the machine's cores
+    busy = threading.Lock()  # one photo at a time: bounds memory (decoded photos) and shares the cores
 
     def resolve(name: str, factory: Callable[[], Any]) -> Any:
         if slots[name] is None:
@@ -153,13 +153,13 @@ def create_app(
         from pix2pockets.pipeline.planning import default_planner
         from pix2pockets.vision.image_io import decode_image_rgb
 
-        try:
-            rgb = photo.load_image(decode_image_rgb(data, name, max_pixels))
-        except ValueError as err:
-            raise WebError(400, str(err)) from None
-        det = resolve("detector", photo.default_detector)
-        plan = resolve("planner", default_planner)
         with busy:
+            try:
+                rgb = photo.load_image(decode_image_rgb(data, name, max_pixels))
+            except ValueError as err:
+                raise WebError(400, str(err)) from None
+            det = resolve("detector", photo.default_detector)
+            plan = resolve("planner", default_planner)
             try:
                 result = photo.suggest(rgb, group=group, detector=det, planner=plan)
             except ValueError as err:
