@@ -310,7 +310,8 @@ def _pixel_py(
         t = -bq - math.sqrt(disc)
         if t <= 0.0:
             continue
-        sil_count[i] += 1
+        if count_sil:
+            sil_count[i] += 1
         if t < best:
             best = t
             hit = ID_BALL0 + i
