@@ -1,0 +1,63 @@
+"""Detector CPU latency with onnxruntime: pre-processing + network + decoding + post-processing per image.
+
+Usage:
+    PYTHONPATH=src python benchmarks/detector.py [--model PATH] [--threads 1] [--repeats 20] [--json OUT.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import statistics
+import time
+from pathlib import Path
+
+import numpy as np
+
+from pix2pockets.vision.onnx_detector import OnnxDetector, OnnxDetectorConfig, default_model_path
+from pix2pockets.vision.postprocess import postprocess
+
+SIZES = ((640, 360), (640, 480), (640, 640))
+
+
+def measure(detector: OnnxDetector, size: tuple[int, int], repeats: int, seed: int = 0) -> dict:
+    """Median and p90 wall time [ms] of detect + postprocess on a random image of ``size`` (w, h)."""
+    rng = np.random.default_rng(seed)
+    image = rng.integers(0, 256, (size[1], size[0], 3), dtype=np.uint8)
+    for _ in range(3):
+        postprocess(detector.detect(image))
+    times = []
+    for _ in range(repeats):
+        t = time.perf_counter()
+        postprocess(detector.detect(image))
+        times.append(1000 * (time.perf_counter() - t))
+    times.sort()
+    return {
+        "image_px": list(size),
+        "median_ms": round(statistics.median(times), 1),
+        "p90_ms": round(times[int(0.9 * (len(times) - 1))], 1),
+        "min_ms": round(times[0], 1),
+    }
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--model", default=str(default_model_path()))
+    parser.add_argument("--threads", type=int, default=1)
+    parser.add_argument("--repeats", type=int, default=20)
+    parser.add_argument("--json", default=None)
+    args = parser.parse_args()
+    detector = OnnxDetector(args.model, OnnxDetectorConfig(threads=args.threads))
+    rows = [measure(detector, s, args.repeats) for s in SIZES]
+    print(f"model {args.model} ({Path(args.model).stat().st_size / 1e6:.1f} MB), onnxruntime threads {args.threads}")
+    print(f"{'image px':>10} {'median ms':>10} {'p90 ms':>8} {'min ms':>8}")
+    for r in rows:
+        print(f"{'x'.join(map(str, r['image_px'])):>10} {r['median_ms']:>10} {r['p90_ms']:>8} {r['min_ms']:>8}")
+    if args.json:
+        out = {"model": args.model, "threads": args.threads, "machine": platform.machine(), "results": rows}
+        Path(args.json).write_text(json.dumps(out, indent=1))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,63 @@
+"""``pix2pockets detect``: balls and diamonds in one photo, before and after post-processing, as JSON."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+from pathlib import Path
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    parser = sub.add_parser("detect", help="detect balls and diamonds in a photo (ONNX model, JSON out)")
+    parser.add_argument("image", help="photo (JPEG, PNG, ...)")
+    parser.add_argument("--json", required=True, dest="json_out", help="output JSON file")
+    parser.add_argument("--model", default=None, help="ONNX model (default: the bundled detector)")
+    parser.add_argument("--conf", type=float, default=0.25, help="lowest confidence reported (default 0.25)")
+    parser.add_argument("--nms-iou", type=float, default=0.5, help="IoU of class-agnostic NMS (default 0.5)")
+    parser.add_argument("--input-size", type=int, default=640, help="network input long side px (default 640)")
+    parser.add_argument("--threads", type=int, default=1, help="onnxruntime threads (default 1)")
+    parser.add_argument("--draw", default=None, help="also write the post-processed detections drawn on the image")
+    parser.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    from pix2pockets.vision.image_io import read_image_rgb
+    from pix2pockets.vision.onnx_detector import OnnxDetector, OnnxDetectorConfig, default_model_path
+    from pix2pockets.vision.postprocess import postprocess
+
+    image = read_image_rgb(args.image)
+    model = Path(args.model) if args.model else default_model_path()
+    detector = OnnxDetector(model, OnnxDetectorConfig(args.input_size, args.conf, threads=args.threads))
+    raw = detector.detect(image)
+    post = postprocess(raw, args.nms_iou)
+    report = {
+        "image": str(args.image),
+        "size_px": [int(image.shape[1]), int(image.shape[0])],
+        "model": str(model),
+        "conf_threshold": args.conf,
+        "before_postprocess": raw.to_list(),
+        "after_postprocess": post.to_list(),
+    }
+    _write_atomic(args.json_out, json.dumps(report, indent=1))
+    if args.draw:
+        import cv2
+
+        from pix2pockets.vision.draw import draw_detections
+
+        drawn = draw_detections(image, post, args.conf)
+        if not cv2.imwrite(args.draw, cv2.cvtColor(drawn, cv2.COLOR_RGB2BGR)):
+            raise ValueError(f"cannot write image {args.draw}")
+    counts = {}
+    for name in post.class_names:
+        counts[name] = counts.get(name, 0) + 1
+    print(f"{args.image}: {len(raw)} raw, {len(post)} after post-processing {counts} -> {args.json_out}")
+    return 0
+
+
+def _write_atomic(path: str, text: str) -> None:
+    """Write a file in one go (no partial file on error)."""
+    tmp = f"{path}.tmp"
+    with open(tmp, "w") as f:
+        f.write(text)
+    os.replace(tmp, path)

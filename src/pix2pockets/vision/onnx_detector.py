@@ -1,0 +1,107 @@
+"""The heatmap detector run through onnxruntime: no torch at inference time.
+
+Example:
+    >>> det = OnnxDetector.from_default()  # doctest: +SKIP
+    >>> raw = det.detect(image_rgb)  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from pix2pockets.vision.detections import Detections
+from pix2pockets.vision.heatmap_decode import decode_peaks
+from pix2pockets.vision.heatmap_layout import INPUT_MULTIPLE
+from pix2pockets.vision.letterbox import letterbox
+
+DEFAULT_MODEL = "detector.onnx"
+
+
+def default_model_path() -> Path:
+    """Path of the detector shipped as package data (may not exist in a checkout without weights)."""
+    return Path(str(resources.files("pix2pockets.data").joinpath("models", DEFAULT_MODEL)))
+
+
+@dataclass(frozen=True, slots=True)
+class OnnxDetectorConfig:
+    """Inference settings.
+
+    Attributes:
+        input_size: long side of the network input [px].
+        conf_threshold: lowest score kept in raw detections.
+        max_detections: most raw detections per image.
+        threads: onnxruntime intra-op threads (0 lets onnxruntime choose).
+    """
+
+    input_size: int = 640
+    conf_threshold: float = 0.05
+    max_detections: int = 300
+    threads: int = 1
+
+    def __post_init__(self) -> None:
+        if self.input_size < 64 or self.input_size % INPUT_MULTIPLE:
+            raise ValueError(f"input_size must be >= 64 and a multiple of {INPUT_MULTIPLE}, got {self.input_size}")
+        if not 0.0 <= self.conf_threshold <= 1.0:
+            raise ValueError(f"conf_threshold must be in [0, 1], got {self.conf_threshold}")
+        if self.max_detections < 1 or self.threads < 0:
+            raise ValueError("max_detections must be >= 1 and threads >= 0")
+
+
+class OnnxDetector:
+    """A :class:`~pix2pockets.vision.base.Detector` backed by an ONNX heatmap model.
+
+    Args:
+        model_path: the ``.onnx`` file written by ``pix2pockets train-detector``.
+        config: inference settings.
+
+    Raises:
+        ValueError: if the file does not exist or is not a model of the expected form.
+    """
+
+    def __init__(self, model_path: str | Path, config: OnnxDetectorConfig | None = None) -> None:
+        import onnxruntime as ort
+
+        self.config = config or OnnxDetectorConfig()
+        path = Path(model_path)
+        if not path.is_file():
+            raise ValueError(f"detector model not found: {path}")
+        opts = ort.SessionOptions()
+        opts.intra_op_num_threads = self.config.threads
+        opts.inter_op_num_threads = 1
+        opts.log_severity_level = 3
+        try:
+            self.session = ort.InferenceSession(str(path), opts, providers=["CPUExecutionProvider"])
+        except Exception as err:  # onnxruntime raises its own exception types
+            raise ValueError(f"cannot load detector model {path}: {err}") from err
+        self.input_name = self.session.get_inputs()[0].name
+        self.model_path = path
+
+    @classmethod
+    def from_default(cls, config: OnnxDetectorConfig | None = None) -> OnnxDetector:
+        """The detector shipped with the package."""
+        return cls(default_model_path(), config)
+
+    def _forward(self, image_rgb: np.ndarray):
+        image = np.asarray(image_rgb)
+        if image.dtype != np.uint8 or image.ndim != 3 or image.shape[2] != 3:
+            raise ValueError(f"expected an RGB uint8 image (H, W, 3), got {image.dtype} {image.shape}")
+        padded, box = letterbox(image, self.config.input_size, 32)
+        x = (padded.astype(np.float32) / 255.0).transpose(2, 0, 1)[None]
+        out = self.session.run(None, {self.input_name: x})[0][0]
+        return out, box, (image.shape[1], image.shape[0])
+
+    def detect(self, image_rgb: np.ndarray) -> Detections:
+        """Raw (not post-processed) detections of the five classes in an RGB uint8 image."""
+        out, box, size = self._forward(image_rgb)
+        c = self.config
+        return decode_peaks(out, box, c.conf_threshold, c.max_detections, image_size=size)
+
+    def detect_balls(self, image_rgb: np.ndarray) -> Detections:
+        """Class-agnostic ball detections from the "any ball" heatmap (class ids all 0, meaning "ball")."""
+        out, box, size = self._forward(image_rgb)
+        c = self.config
+        return decode_peaks(out, box, c.conf_threshold, c.max_detections, agnostic=True, image_size=size)

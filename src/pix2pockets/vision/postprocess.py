@@ -1,0 +1,93 @@
+"""The paper's post-processing (section 6.1): class-agnostic NMS, then per-class caps by confidence.
+
+A ball cannot be two classes at once and a table holds at most 1 cue, 1 black, 7 solids, 7 stripes and
+18 diamonds, so overlapping detections of different classes are merged by NMS and surplus low-confidence
+detections of a class are dropped. Pure numpy.
+
+Example:
+    >>> import numpy as np
+    >>> from pix2pockets.vision.detections import Detections
+    >>> det = Detections(np.array([[0, 0, 10, 10], [1, 1, 11, 11.0]]), np.array([0.9, 0.8]), np.array([0, 1]))
+    >>> len(postprocess(det))
+    1
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+from pix2pockets.vision.classes import DETECTION_CAPS
+from pix2pockets.vision.detections import Detections
+
+DEFAULT_NMS_IOU = 0.5
+
+
+def box_iou(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Pairwise IoU of boxes ``a`` (n, 4) and ``b`` (m, 4), xyxy [px]; returns (n, m)."""
+    a = np.asarray(a, dtype=float).reshape(-1, 4)
+    b = np.asarray(b, dtype=float).reshape(-1, 4)
+    lt = np.maximum(a[:, None, :2], b[None, :, :2])
+    rb = np.minimum(a[:, None, 2:], b[None, :, 2:])
+    inter = np.prod(np.clip(rb - lt, 0, None), axis=2)
+    area_a = np.prod(np.clip(a[:, 2:] - a[:, :2], 0, None), axis=1)
+    area_b = np.prod(np.clip(b[:, 2:] - b[:, :2], 0, None), axis=1)
+    union = area_a[:, None] + area_b[None, :] - inter
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(union > 0, inter / union, 0.0)
+
+
+def nms_indices(boxes: np.ndarray, scores: np.ndarray, iou_threshold: float = DEFAULT_NMS_IOU) -> np.ndarray:
+    """Greedy non-maximum suppression; returns kept indices, highest score first.
+
+    Raises:
+        ValueError: if ``iou_threshold`` is outside [0, 1].
+    """
+    if not 0.0 <= iou_threshold <= 1.0:
+        raise ValueError(f"iou_threshold must be in [0, 1], got {iou_threshold}")
+    order = np.argsort(-np.asarray(scores, dtype=float), kind="stable")
+    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
+    keep: list[int] = []
+    while order.size:
+        i = order[0]
+        keep.append(int(i))
+        if order.size == 1:
+            break
+        ious = box_iou(boxes[i : i + 1], boxes[order[1:]])[0]
+        order = order[1:][ious <= iou_threshold]
+    return np.asarray(keep, dtype=int)
+
+
+def class_agnostic_nms(det: Detections, iou_threshold: float = DEFAULT_NMS_IOU) -> Detections:
+    """NMS over all classes together, so one ball keeps only its most confident class."""
+    return det[nms_indices(det.boxes, det.confidence, iou_threshold)]
+
+
+def apply_caps(det: Detections, caps: Sequence[int] = DETECTION_CAPS) -> Detections:
+    """Keep at most ``caps[c]`` detections of each class ``c``, the most confident ones.
+
+    Raises:
+        ValueError: if a cap is negative or a class id has no cap.
+    """
+    caps = tuple(int(c) for c in caps)
+    if any(c < 0 for c in caps):
+        raise ValueError(f"caps must be >= 0, got {caps}")
+    if len(det) and det.class_id.max() >= len(caps):
+        raise ValueError(f"class id {det.class_id.max()} has no cap (caps {caps})")
+    order = np.argsort(-det.confidence, kind="stable")
+    seen = np.zeros(len(caps), dtype=int)
+    keep = []
+    for i in order:
+        k = det.class_id[i]
+        if seen[k] < caps[k]:
+            seen[k] += 1
+            keep.append(i)
+    return det[np.asarray(keep, dtype=int)]
+
+
+def postprocess(
+    det: Detections, iou_threshold: float = DEFAULT_NMS_IOU, caps: Sequence[int] = DETECTION_CAPS
+) -> Detections:
+    """Class-agnostic NMS, then per-class caps (paper section 6.1); result sorted by confidence."""
+    return apply_caps(class_agnostic_nms(det, iou_threshold), caps)

@@ -1,0 +1,51 @@
+"""CenterNet losses: penalty-reduced focal loss on heatmaps, L1 on regressions at object centres.
+
+References:
+    Zhou et al., "Objects as Points" (2019), eq. 1-3; Law and Deng, "CornerNet" (2018), focal loss variant.
+"""
+
+from __future__ import annotations
+
+import torch
+
+from pix2pockets.vision.heatmap_layout import CONTACT_SLICE, N_HEAT, OFFSET_SLICE, SIZE_SLICE
+
+
+def focal_loss(logits: torch.Tensor, target: torch.Tensor, channel_mask: torch.Tensor) -> torch.Tensor:
+    """Focal loss (alpha 2, beta 4) summed over supervised channels, divided by the number of peaks.
+
+    Args:
+        logits: (N, C, h, w) heatmap logits.
+        target: (N, C, h, w) Gaussian targets in [0, 1] with exact 1 at centres.
+        channel_mask: (N, C) 1 where a channel is supervised for that sample.
+    """
+    p = torch.sigmoid(logits).clamp(1e-4, 1 - 1e-4)
+    pos = (target >= 0.999).float()
+    m = channel_mask[:, :, None, None]
+    pos_loss = -torch.log(p) * (1 - p) ** 2 * pos * m
+    neg_loss = -torch.log(1 - p) * p**2 * (1 - target) ** 4 * (1 - pos) * m
+    n_pos = (pos * m).sum().clamp(min=1.0)
+    return (pos_loss.sum() + neg_loss.sum()) / n_pos
+
+
+def _gather(out: torch.Tensor, index: torch.Tensor) -> torch.Tensor:
+    """Values of (N, C, h, w) maps at flat cell indices (N, K) -> (N, K, C)."""
+    n, c = out.shape[:2]
+    flat = out.reshape(n, c, -1)
+    return flat.gather(2, index[:, None, :].expand(n, c, index.shape[1])).permute(0, 2, 1)
+
+
+def detector_loss(out: torch.Tensor, batch: dict[str, torch.Tensor]) -> tuple[torch.Tensor, dict[str, float]]:
+    """Total loss and its parts for a batch; see :class:`pix2pockets.vision.train.targets.Sample`."""
+    heat = focal_loss(out[:, :N_HEAT], batch["heat"], batch["kind_mask"])
+    m = batch["reg_mask"][..., None]
+    n = m.sum().clamp(min=1.0)
+    size = (torch.abs(_gather(out[:, SIZE_SLICE], batch["index"]) - batch["size"]) * m).sum() / n
+    off = (torch.abs(_gather(out[:, OFFSET_SLICE], batch["index"]) - batch["offset"]) * m).sum() / n
+    cm = batch["contact_mask"][..., None]
+    cont = (torch.abs(_gather(out[:, CONTACT_SLICE], batch["index"]) - batch["contact"]) * cm).sum() / cm.sum().clamp(
+        min=1.0
+    )
+    total = heat + size + off + 0.5 * cont
+    parts = {k: float(v.detach()) for k, v in (("heat", heat), ("size", size), ("offset", off), ("contact", cont))}
+    return total, parts

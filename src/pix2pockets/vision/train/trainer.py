@@ -1,0 +1,295 @@
+"""Training loop of the heatmap detector: seeded, checkpointed, resumable, exports ONNX.
+
+Run it through ``pix2pockets train-detector``. Checkpoints (``last.pt``) hold the model, optimiser and the
+position in the epoch; each sample's augmentation is drawn from ``np.random.default_rng((seed, epoch,
+index))``, so a resumed run sees the same samples as an uninterrupted one.
+"""
+
+from __future__ import annotations
+
+import fnmatch
+import json
+import math
+import os
+import time
+import warnings
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import cv2
+import numpy as np
+import torch
+from tqdm import tqdm
+
+from pix2pockets.vision.train.loss import detector_loss
+from pix2pockets.vision.train.model import CenterNet, ExportWrapper
+from pix2pockets.vision.train.targets import AugmentConfig, make_sample
+from pix2pockets.vision.yolo_data import LabelledImage, dataset_class_map, load_split
+
+CHECKPOINT = "last.pt"
+ONNX_NAME = "detector.onnx"
+
+
+@dataclass(frozen=True, slots=True)
+class TrainConfig:
+    """Training settings (all recorded in the checkpoint and the ONNX metadata file).
+
+    Attributes:
+        data: YOLO datasets with the five classes (their ``train`` split is used).
+        balls: ball-only YOLO datasets (e.g. real photos); class ``balls_class`` is "ball", others ignored.
+        balls_exclude: file-name glob patterns of ball-only images to leave out (e.g. frames of the video
+            that the validation photos come from).
+        out: output folder (checkpoints, log, ONNX).
+        epochs: passes over the five-class training images.
+        seed: the one seed for initialisation, order and augmentation.
+        batch: images per step.
+        crop: training crop side [px].
+        lr: peak AdamW learning rate (cosine decay, linear warm-up).
+        threads: torch CPU threads.
+        limit: use only the first ``limit`` five-class training images (training-size ablation).
+        balls_fraction: ball-only images per epoch, as a fraction of the five-class images.
+        checkpoint_minutes: save ``last.pt`` at least this often [min].
+        max_minutes: stop (checkpoint + export) after this much wall time in this run [min]; 0 = no limit.
+        pretrained: start the trunk from ImageNet weights.
+        init: start from the model weights of this checkpoint (``last.pt`` of an earlier run).
+    """
+
+    data: tuple[str, ...]
+    out: str
+    balls: tuple[str, ...] = ()
+    balls_class: int = 0
+    balls_exclude: tuple[str, ...] = ()
+    epochs: int = 10
+    seed: int = 0
+    batch: int = 8
+    crop: int = 320
+    lr: float = 2e-3
+    threads: int = 1
+    limit: int | None = None
+    balls_fraction: float = 0.25
+    checkpoint_minutes: float = 5.0
+    max_minutes: float = 0.0
+    pretrained: bool = True
+    init: str | None = None
+    augment: AugmentConfig = field(default_factory=AugmentConfig)
+
+    def __post_init__(self) -> None:
+        if not self.data and not self.balls:
+            raise ValueError("train-detector needs at least one --data (or --balls) folder")
+        if self.epochs < 1 or self.batch < 1 or self.threads < 1:
+            raise ValueError("epochs, batch and threads must be >= 1")
+        if self.crop % 32 or self.crop < 64:
+            raise ValueError(f"crop must be a multiple of 32 and >= 64, got {self.crop}")
+        if self.limit is not None and self.limit < 1:
+            raise ValueError("limit must be >= 1")
+        if not (self.lr > 0 and 0 <= self.balls_fraction <= 4):
+            raise ValueError("lr must be > 0 and balls_fraction in [0, 4]")
+
+
+def _load_sources(cfg: TrainConfig) -> tuple[list[tuple[LabelledImage, dict[int, int]]], list[LabelledImage]]:
+    main = []
+    for root in cfg.data:
+        cmap = dataset_class_map(root)
+        main += [(it, cmap) for it in load_split(root, "train")]
+    if cfg.limit is not None:
+        main = main[: cfg.limit]
+    balls = [
+        it
+        for root in cfg.balls
+        for it in load_split(root, "train")
+        if not any(fnmatch.fnmatch(it.image_path.name, pat) for pat in cfg.balls_exclude)
+    ]
+    return main, balls
+
+
+def _lr_at(step: int, total: int, peak: float) -> float:
+    warm = min(200, max(1, total // 20))
+    if step < warm:
+        return peak * (step + 1) / warm
+    return peak * 0.5 * (1 + math.cos(math.pi * min(1.0, (step - warm) / max(1, total - warm))))
+
+
+def _read_rgb(path: Path) -> np.ndarray:
+    img = cv2.imread(str(path), cv2.IMREAD_COLOR)
+    if img is None:
+        raise ValueError(f"cannot read image {path}")
+    return cv2.cvtColor(img, cv2.COLOR_BGR2RGB)
+
+
+def _collate(samples: list) -> dict[str, torch.Tensor]:
+    keys = ("image", "heat", "kind_mask", "index", "reg_mask", "size", "offset", "contact", "contact_mask")
+    return {k: torch.from_numpy(np.stack([getattr(s, k) for s in samples])) for k in keys}
+
+
+def _save(path: Path, state: dict) -> None:
+    tmp = path.with_suffix(".tmp")
+    torch.save(state, tmp)
+    os.replace(tmp, path)
+
+
+def export_onnx(model: CenterNet, path: Path, example_hw: tuple[int, int] = (384, 640)) -> Path:
+    """Write the model (sigmoid + peak isolation included) as ONNX with dynamic height and width."""
+    wrapper = ExportWrapper(model).eval()
+    x = torch.zeros(1, 3, *example_hw)
+    tmp = path.with_name(path.name + ".tmp")
+    with torch.no_grad(), warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)  # the TorchScript exporter needs no onnxscript
+        torch.onnx.export(
+            wrapper,
+            (x,),
+            str(tmp),
+            input_names=["image"],
+            output_names=["out"],
+            dynamic_axes={"image": {0: "n", 2: "h", 3: "w"}, "out": {0: "n", 2: "h4", 3: "w4"}},
+            opset_version=17,
+            dynamo=False,
+        )
+    os.replace(tmp, path)
+    return path
+
+
+def export_checkpoint(checkpoint: str | Path, onnx_path: str | Path) -> Path:
+    """Export the model of a ``last.pt`` checkpoint to ONNX (e.g. while training still runs)."""
+    state = torch.load(checkpoint, map_location="cpu", weights_only=False)
+    model = CenterNet(pretrained=False)
+    model.load_state_dict(state["model"])
+    return export_onnx(model.eval(), Path(onnx_path))
+
+
+def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path:
+    """Train (or resume) and export; returns the ONNX path.
+
+    Raises:
+        ValueError: for missing data, or ``resume`` without a checkpoint of the same settings.
+    """
+    out = Path(cfg.out)
+    out.mkdir(parents=True, exist_ok=True)
+    torch.set_num_threads(cfg.threads)
+    torch.manual_seed(cfg.seed)
+    main, balls = _load_sources(cfg)
+    model = CenterNet(pretrained=cfg.pretrained)
+    opt = torch.optim.AdamW([p for p in model.parameters() if p.requires_grad], lr=cfg.lr, weight_decay=1e-4)
+    if cfg.init and not resume:
+        model.load_state_dict(torch.load(cfg.init, map_location="cpu", weights_only=False)["model"])
+    n_balls = min(len(balls), round(cfg.balls_fraction * len(main))) if main else len(balls)
+    per_epoch = len(main) + n_balls
+    steps_per_epoch = max(1, per_epoch // cfg.batch)
+    total = steps_per_epoch * cfg.epochs
+    epoch, batch_i, step, trained_s = 0, 0, 0, 0.0
+    ckpt = out / CHECKPOINT
+    if resume:
+        if not ckpt.exists():
+            raise ValueError(f"--resume: no checkpoint {ckpt}")
+        state = torch.load(ckpt, map_location="cpu", weights_only=False)
+        old = dict(state["config"])
+        new = _comparable(cfg)
+        changed = [
+            k
+            for k in new
+            if k not in ("epochs", "max_minutes", "checkpoint_minutes", "threads") and old.get(k) != new[k]
+        ]
+        if changed:
+            raise ValueError(f"--resume: settings differ from the checkpoint in {changed}")
+        model.load_state_dict(state["model"])
+        opt.load_state_dict(state["optimizer"])
+        epoch, batch_i, step, trained_s = state["epoch"], state["batch"], state["step"], state["trained_s"]
+    log = (out / "train_log.jsonl").open("a")
+    started = last_ckpt = time.monotonic()
+
+    def checkpoint() -> None:
+        _save(
+            ckpt,
+            {
+                "model": model.state_dict(),
+                "optimizer": opt.state_dict(),
+                "epoch": epoch,
+                "batch": batch_i,
+                "step": step,
+                "trained_s": trained_s + time.monotonic() - started,
+                "config": _comparable(cfg),
+            },
+        )
+
+    stop = False
+    bar = tqdm(total=total, initial=step, disable=not progress, desc="train-detector", unit="step")
+    model.train()
+    while epoch < cfg.epochs and not stop:
+        order_rng = np.random.default_rng((cfg.seed, epoch))
+        items: list[tuple[LabelledImage, dict[int, int] | None]] = list(main)
+        if n_balls:
+            items += [(balls[i], None) for i in order_rng.choice(len(balls), n_balls, replace=False)]
+        order = order_rng.permutation(len(items))
+        while batch_i < steps_per_epoch:
+            idx = order[batch_i * cfg.batch : (batch_i + 1) * cfg.batch]
+            samples = []
+            for j in idx:
+                it, cmap = items[j]
+                rng = np.random.default_rng((cfg.seed, epoch, int(j)))
+                ball_only = cmap is None
+                samples.append(
+                    make_sample(
+                        _read_rgb(it.image_path),
+                        it,
+                        {cfg.balls_class: 0} if ball_only else cmap,
+                        ball_only,
+                        cfg.augment,
+                        rng,
+                    )
+                )
+            batch = _collate(samples)
+            for g in opt.param_groups:
+                g["lr"] = _lr_at(step, total, cfg.lr)
+            loss, parts = detector_loss(model(batch["image"]), batch)
+            opt.zero_grad(set_to_none=True)
+            loss.backward()
+            torch.nn.utils.clip_grad_norm_(model.parameters(), 10.0)
+            opt.step()
+            step += 1
+            batch_i += 1
+            bar.update(1)
+            bar.set_postfix(loss=f"{loss.item():.3f}", epoch=epoch)
+            if step % 10 == 0:
+                log.write(
+                    json.dumps(
+                        {
+                            "step": step,
+                            "epoch": epoch,
+                            "loss": round(loss.item(), 4),
+                            **{k: round(v, 4) for k, v in parts.items()},
+                            "lr": opt.param_groups[0]["lr"],
+                            "t": round(trained_s + time.monotonic() - started, 1),
+                        }
+                    )
+                    + "\n"
+                )
+                log.flush()
+            now = time.monotonic()
+            if now - last_ckpt > cfg.checkpoint_minutes * 60:
+                checkpoint()
+                last_ckpt = now
+            if cfg.max_minutes and now - started > cfg.max_minutes * 60:
+                stop = True
+                break
+        if not stop:
+            epoch, batch_i = epoch + 1, 0
+    bar.close()
+    checkpoint()
+    model.eval()
+    path = export_onnx(model, out / ONNX_NAME)
+    meta = {
+        "config": _comparable(cfg),
+        "epoch": epoch,
+        "step": step,
+        "total_steps": total,
+        "finished": epoch >= cfg.epochs,
+    }
+    (out / "detector.json").write_text(json.dumps(meta, indent=2))
+    log.close()
+    return path
+
+
+def _comparable(cfg: TrainConfig) -> dict:
+    d = asdict(cfg)
+    d["data"], d["balls"], d["balls_exclude"] = list(cfg.data), list(cfg.balls), list(cfg.balls_exclude)
+    d["augment"] = {k: list(v) if isinstance(v, tuple) else v for k, v in d["augment"].items()}
+    return d

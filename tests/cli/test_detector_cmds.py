@@ -1,0 +1,61 @@
+import json
+from pathlib import Path
+
+import pytest
+
+from pix2pockets.cli.main import main
+from tests.vision.toy_table import write_toy_dataset
+
+
+@pytest.fixture(scope="module")
+def toy(tmp_path_factory) -> Path:
+    root = tmp_path_factory.mktemp("toy")
+    write_toy_dataset(root, 2, seed=0, split="train")
+    write_toy_dataset(root, 2, seed=1, split="test")
+    return root
+
+
+def test_evaluate_group_lists_detector(capsys):
+    with pytest.raises(SystemExit):
+        main(["evaluate", "--help"])
+    assert "detector" in capsys.readouterr().out
+
+
+def test_evaluate_hough_writes_table_json(toy, tmp_path, capsys):
+    out = tmp_path / "e.json"
+    rc = main(["evaluate", "detector", "--data", str(toy), "--detector", "hough", "--json", str(out), "--quiet"])
+    assert rc == 0
+    rep = json.loads(out.read_text())
+    assert rep["mode"] == "classes" and set(rep["before"]) >= {"cue", "dot", "average"}
+    assert "AP50:95" in capsys.readouterr().out
+
+
+def test_evaluate_missing_split_is_clean_error(toy, tmp_path, capsys):
+    args = ["evaluate", "detector", "--data", str(toy), "--split", "nope", "--detector", "hough"]
+    rc = main([*args, "--json", str(tmp_path / "x.json")])
+    assert rc == 2 and "nope" in capsys.readouterr().err
+    assert not (tmp_path / "x.json").exists()
+
+
+def test_detect_rejects_non_image(tmp_path, capsys):
+    bad = tmp_path / "bad.jpg"
+    bad.write_text("hello")
+    rc = main(["detect", str(bad), "--json", str(tmp_path / "o.json")])
+    assert rc == 2 and "not an image" in capsys.readouterr().err
+    assert not (tmp_path / "o.json").exists()
+
+
+def test_train_detector_tiny_run_writes_onnx_and_resumes(toy, tmp_path):
+    pytest.importorskip("torch")
+    pytest.importorskip("onnx", reason="ONNX export needs the onnx package (train extra)")
+    out = tmp_path / "run"
+    args = ["train-detector", "--data", str(toy), "--out", str(out), "--epochs", "1", "--batch", "2"]
+    args += ["--crop", "64", "--no-pretrained", "--quiet"]
+    assert main(args) == 0
+    assert (out / "detector.onnx").stat().st_size > 10_000 and (out / "last.pt").exists()
+    assert main([*args[:6], "2", *args[7:], "--resume"]) == 0
+    meta = json.loads((out / "detector.json").read_text())
+    assert meta["epoch"] == 2 and meta["finished"]
+    image = str(next((toy / "test" / "images").iterdir()))
+    rc = main(["detect", image, "--model", str(out / "detector.onnx"), "--json", str(tmp_path / "d.json")])
+    assert rc == 0 and "after_postprocess" in json.loads((tmp_path / "d.json").read_text())

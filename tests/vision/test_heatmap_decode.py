@@ -1,0 +1,62 @@
+import numpy as np
+import pytest
+
+from pix2pockets.vision.heatmap_decode import decode_peaks
+from pix2pockets.vision.heatmap_layout import BALL_ANY, CONTACT_SLICE, N_OUT, OFFSET_SLICE, SIZE_SLICE, STRIDE
+from pix2pockets.vision.letterbox import Letterbox, letterbox
+
+
+def test_letterbox_scales_long_side_and_pads():
+    img = np.zeros((300, 400, 3), np.uint8)
+    out, box = letterbox(img, 640, 32)
+    assert out.shape == (480, 640, 3)
+    assert box.scale == pytest.approx(1.6)
+    assert np.allclose(box.to_image([[640, 480]]), [[400, 300]])
+    out2, _ = letterbox(np.zeros((100, 50, 3), np.uint8), 320, 32)
+    assert out2.shape == (320, 160, 3)
+
+
+@pytest.mark.parametrize("shape", [(10, 10), (10, 10, 4), (0, 5, 3)])
+def test_letterbox_rejects_bad_images(shape):
+    with pytest.raises(ValueError, match="image"):
+        letterbox(np.zeros(shape, np.uint8))
+
+
+def _output(h=20, w=30):
+    return np.zeros((N_OUT, h, w), np.float32)
+
+
+def test_decode_one_peak_maps_back_to_image_pixels():
+    out = _output()
+    out[2, 5, 7] = 0.9  # a solid at cell (x 7, y 5)
+    out[OFFSET_SLICE, 5, 7] = [0.25, 0.5]
+    out[SIZE_SLICE, 5, 7] = np.log([3.0, 2.0])  # 12 x 8 px in the network input
+    out[CONTACT_SLICE, 5, 7] = [0.25, 1.5]
+    det = decode_peaks(out, Letterbox(scale=2.0, size=(120, 80)), conf_threshold=0.1)
+    assert len(det) == 1 and det.class_id[0] == 2 and det.confidence[0] == pytest.approx(0.9)
+    cx, cy = (7.25 * STRIDE) / 2, (5.5 * STRIDE) / 2
+    assert np.allclose(det.boxes[0], [cx - 3, cy - 2, cx + 3, cy + 2], atol=1e-4)
+    assert np.allclose(det.contact[0], [7.25 * STRIDE / 2, 6.5 * STRIDE / 2], atol=1e-4)
+
+
+def test_decode_threshold_topk_and_dot_contact_nan():
+    out = _output()
+    out[4, 1, 1] = 0.8  # dot
+    out[0, 2, 2] = 0.3
+    out[1, 3, 3] = 0.02
+    det = decode_peaks(out, Letterbox(1.0, (120, 80)), conf_threshold=0.05, max_detections=1)
+    assert det.class_id.tolist() == [4] and np.all(np.isnan(det.contact))
+    assert len(decode_peaks(out, Letterbox(1.0, (120, 80)), conf_threshold=0.05)) == 2
+
+
+def test_decode_agnostic_reads_ball_channel():
+    out = _output()
+    out[BALL_ANY, 4, 4] = 0.7
+    out[2, 9, 9] = 0.9
+    det = decode_peaks(out, Letterbox(1.0, (120, 80)), agnostic=True)
+    assert len(det) == 1 and det.confidence[0] == pytest.approx(0.7)
+
+
+def test_decode_rejects_wrong_shape():
+    with pytest.raises(ValueError, match="model output"):
+        decode_peaks(np.zeros((5, 4, 4)), Letterbox(1.0, (16, 16)))

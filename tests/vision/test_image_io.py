@@ -1,0 +1,52 @@
+import numpy as np
+import pytest
+from PIL import Image
+
+from pix2pockets.vision.image_io import decode_image_rgb, read_image_rgb
+
+
+def test_reads_png_as_rgb(tmp_path):
+    p = tmp_path / "a.png"
+    Image.fromarray(np.full((4, 6, 3), 7, np.uint8)).save(p)
+    img = read_image_rgb(p)
+    assert img.shape == (4, 6, 3) and img.dtype == np.uint8 and img[0, 0, 0] == 7
+
+
+def test_grey_png_becomes_three_channels(tmp_path):
+    p = tmp_path / "g.png"
+    Image.fromarray(np.zeros((3, 3), np.uint8)).save(p)
+    assert read_image_rgb(p).shape == (3, 3, 3)
+
+
+def test_errors(tmp_path):
+    text = tmp_path / "x.jpg"
+    text.write_text("not an image")
+    with pytest.raises(ValueError, match="not an image"):
+        read_image_rgb(text)
+    with pytest.raises(ValueError, match="not found"):
+        read_image_rgb(tmp_path / "missing.png")
+    big = tmp_path / "big.png"
+    Image.fromarray(np.zeros((40, 40, 3), np.uint8)).save(big)
+    with pytest.raises(ValueError, match="too large"):
+        read_image_rgb(big, max_pixels=100)
+    full = tmp_path / "t.jpg"
+    Image.fromarray(np.random.default_rng(0).integers(0, 255, (64, 64, 3), dtype=np.uint8)).save(full)
+    cut = tmp_path / "cut.jpg"
+    cut.write_bytes(full.read_bytes()[:300])
+    with pytest.raises(ValueError, match="truncated"):
+        read_image_rgb(cut)
+
+
+def test_decode_bytes_matches_file_reading(tmp_path):
+    p = tmp_path / "a.png"
+    Image.fromarray(np.arange(48, dtype=np.uint8).reshape(4, 4, 3)).save(p)
+    np.testing.assert_array_equal(decode_image_rgb(p.read_bytes()), read_image_rgb(p))
+
+
+@pytest.mark.parametrize(
+    ("data", "match"),
+    [(b"", "photo.png is empty"), (b"hello", "not an image file: photo.png"), (b"\x89PNG\r\n\x1a\n\0\0", "photo.png")],
+)
+def test_decode_bytes_errors(data, match):
+    with pytest.raises(ValueError, match=match):
+        decode_image_rgb(data, "photo.png")
