@@ -52,6 +52,8 @@ ID_BALL0 = 40  # balls 0-15 -> 40-55
 
 BALL_CUE, BALL_SOLID, BALL_STRIPE = 0, 1, 2
 INF = 1e30
+KU = 0.8  # cushion undercut: the face below the nose runs KU m back per m of depth (hidden from above ~51 deg)
+KN = 1.0 / math.sqrt(1.0 + KU * KU)
 
 
 @njit(cache=True, inline="always")
@@ -415,18 +417,21 @@ def render_scene(
             # ---------------- vertical faces: cushion noses (inside), apron and body (outside), walls
             # x = const faces
             if dx != 0.0:
-                # nose faces at x = 0 (facing +x) and x = L (facing -x), seen from inside the table
+                # undercut cushion faces below the noses at x = 0 and x = L (seen from inside the table):
+                # x = x_nose - s * ku * (h - z), s = +1 at the head rail, -1 at the foot rail
                 for side in range(2):
                     xp = 0.0 if side == 0 else L
-                    if (side == 0 and dx < 0.0 and ox > 0.0) or (side == 1 and dx > 0.0 and ox < L):
-                        t = (xp - ox) / dx
+                    sg = 1.0 if side == 0 else -1.0
+                    den = dx - sg * KU * dz
+                    if sg * (ox - xp) > 0.0 and sg * dx - KU * dz < 0.0 and den != 0.0:
+                        t = (xp - sg * KU * (h - oz) - ox) / den
                         if 0.0 < t < best:
                             z = oz + t * dz
                             y = oy + t * dy
                             if 0.0 <= z <= h and geo[G_DC] <= y <= Wd - geo[G_DC]:
                                 best = t
                                 hit = ID_NOSE
-                                nx, ny, nz = (0.95 if side == 0 else -0.95), 0.0, 0.3
+                                nx, ny, nz = sg * KN, 0.0, -KU * KN
                     # apron / outer rail faces and body, seen from outside
                     for layer in range(2):
                         off = rw if layer == 0 else rw - bi
@@ -458,8 +463,10 @@ def render_scene(
             if dy != 0.0:
                 for side in range(2):
                     yp = 0.0 if side == 0 else Wd
-                    if (side == 0 and dy < 0.0 and oy > 0.0) or (side == 1 and dy > 0.0 and oy < Wd):
-                        t = (yp - oy) / dy
+                    sg = 1.0 if side == 0 else -1.0
+                    den = dy - sg * KU * dz
+                    if sg * (oy - yp) > 0.0 and sg * dy - KU * dz < 0.0 and den != 0.0:
+                        t = (yp - sg * KU * (h - oz) - oy) / den
                         if 0.0 < t < best:
                             z = oz + t * dz
                             x = ox + t * dx
@@ -468,7 +475,7 @@ def render_scene(
                             if 0.0 <= z <= h and (dcn <= x <= L * 0.5 - ssn or L * 0.5 + ssn <= x <= L - dcn):
                                 best = t
                                 hit = ID_NOSE
-                                nx, ny, nz = 0.0, (0.95 if side == 0 else -0.95), 0.3
+                                nx, ny, nz = 0.0, sg * KN, -KU * KN
                     for layer in range(2):
                         off = rw if layer == 0 else rw - bi
                         yp2 = -off if side == 0 else Wd + off
@@ -539,9 +546,13 @@ def render_scene(
                 ag = mats[M_CLOTH, 1] * f
                 ab = mats[M_CLOTH, 2] * f
                 if hit == ID_NOSE:
-                    ar *= 0.75
-                    ag *= 0.75
-                    ab *= 0.75
+                    ar *= 0.8
+                    ag *= 0.8
+                    ab *= 0.8
+                elif hit == ID_CUSHION:
+                    ar *= 0.92
+                    ag *= 0.92
+                    ab *= 0.92
                 receives_ball_shadow = True
                 ks = shade[S_CLOTH_NAP]
                 shin = 4.0

@@ -122,6 +122,17 @@ def _exposure(scene: Scene, rgb: np.ndarray, ids: np.ndarray) -> float:
     return float(target / max(ref, 1e-4))
 
 
+def _clearance(capsules: list, cam: PinholeCamera) -> float:
+    """Smallest distance from the camera centre to any capsule's surface [m]."""
+    c = cam.position
+    best = np.inf
+    for p0, p1, r0, r1, _ in capsules:
+        seg = p1 - p0
+        s = float(np.clip(np.dot(c - p0, seg) / max(float(np.dot(seg, seg)), 1e-12), 0.0, 1.0))
+        best = min(best, float(np.linalg.norm(p0 + s * seg - c)) - max(r0, r1))
+    return best
+
+
 def _add_occluders(
     img: np.ndarray,
     depth: np.ndarray,
@@ -170,7 +181,7 @@ def _add_occluders(
             rng, centres[i, :2], spec.size, scene.rail_width, scene.floor_z, spec.ball_radius
         )
         people.draw_figure(img, mask, depth, cam, cue, gloss=0.4)
-        if rng.random() < 0.85:
+        if rng.random() < 0.85 and _clearance(body, cam) > 0.5:
             people.draw_figure(img, mask, depth, cam, body)
             used.append("player")
         used.append("cue_stick")
@@ -273,7 +284,7 @@ def render_views(seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, views: Sequen
     scene = sample_scene(r_scene, layout)
     out = []
     for view in views:
-        cam, kind = sample_camera(r_cam, spec, size, view, scene.floor_z, scene.rail_width)
+        cam, kind = sample_camera(r_cam, spec, size, view, scene.floor_z, scene.rail_width, crop=False)
         rend = render_scene_view(scene, cam, kind, r_fx, strength=0.3)
         rend.labels["layout_mode"] = mode
         rend.labels["view"] = view
