@@ -159,9 +159,27 @@ def _erf(x: np.ndarray) -> np.ndarray:
     return erf(x)
 
 
-def fast_position_value(positions: np.ndarray, cue: int, targets: list[int], spec: TableSpec, sigma: float) -> float:
-    """Best direct next-shot pot probability (1 when no target is left)."""
+OPTION_WEIGHTS: tuple[float, ...] = (1.0, 0.33, 0.15)
+"""Weights of the best, second and third next shot (at different balls) in a position's value: a position
+with several good shots keeps the run going when the best one's own position play goes wrong."""
+
+
+def fast_position_value(
+    positions: np.ndarray,
+    cue: int,
+    targets: list[int],
+    spec: TableSpec,
+    sigma: float,
+    weights: tuple[float, ...] = OPTION_WEIGHTS,
+) -> float:
+    """Value of a cue-ball position: weighted best direct pot probabilities at distinct balls, in [0, 1].
+
+    ``sum(w_i p_i) / sum(w_i)`` over the best shot at each of the ``len(weights)`` best balls (fewer when
+    fewer balls are left); 1 when no target is left.
+    """
     if len(targets) == 0:
         return 1.0
     p = direct_pot_probabilities(positions, cue, targets, spec, sigma)
-    return float(p.max()) if p.size else 0.0
+    best = np.sort(p.max(axis=1))[::-1][: len(weights)]
+    w = np.asarray(weights[: len(best)], dtype=float)
+    return float(best @ w / w.sum())

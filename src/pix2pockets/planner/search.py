@@ -78,7 +78,7 @@ class SearchConfig:
     fan: int = 7
     max_verified: int = 8
     max_cut: float = math.radians(80.0)
-    lookahead: float = 1.0
+    lookahead: float = 2.0
     time_budget: float | None = 0.5
     simulator_params: dict = field(default_factory=dict, hash=False, compare=False)
 

@@ -30,6 +30,7 @@ _EVENT_TYPES = (
     EventType.ROLLING_TO_STATIONARY,
 )
 _STOP_CODES = {StopAfter.REST: 0, StopAfter.FIRST_CONTACT: 1, StopAfter.FIRST_POCKET: 2}
+_FIRST_CAPACITY = 512  # event buffer size tried first [events]
 
 
 def pack_table(spec: TableSpec) -> tuple[np.ndarray, ...]:
@@ -146,36 +147,38 @@ class EventSimulator:
         if not isinstance(shot, Shot):
             raise ValueError(f"expected a Shot, got {type(shot).__name__}")
         stop_code = _STOP_CODES[StopAfter(stop)]
-        cap = self.params.max_events + len(layout) + 1
-        ev_t = np.empty(cap)
-        ev_k = np.empty(cap, dtype=np.int64)
-        ev_a = np.empty(cap, dtype=np.int64)
-        ev_b = np.empty(cap, dtype=np.int64)
-        ev_e = np.empty(cap)
         row = np.array([[shot.angle, shot.speed, shot.side, shot.height, shot.elevation]], dtype=float)
-        out = _Outputs(1, len(layout))
-        run_shots(
-            np.array(layout.positions, dtype=float),
-            cue,
-            row,
-            prm,
-            geo,
-            stop_code,
-            self.params.max_events,
-            True,
-            ev_t,
-            ev_k,
-            ev_a,
-            ev_b,
-            ev_e,
-            *out.arrays,
-        )
+        pos0 = np.array(layout.positions, dtype=float)
+        cap = _FIRST_CAPACITY
+        while True:  # small event buffers first; rerun with room for the whole budget if they overflow
+            ev_t, ev_e = np.empty(cap), np.empty(cap)
+            ev_k, ev_a, ev_b = (np.empty(cap, dtype=np.int64) for _ in range(3))
+            out = _Outputs(1, len(layout))
+            run_shots(
+                pos0,
+                cue,
+                row,
+                prm,
+                geo,
+                stop_code,
+                self.params.max_events,
+                True,
+                ev_t,
+                ev_k,
+                ev_a,
+                ev_b,
+                ev_e,
+                *out.arrays,
+            )
+            if out.nev[0] <= cap:
+                break
+            cap = self.params.max_events + len(layout) + 1
         nev, status, pos = int(out.nev[0]), int(out.status[0]), out.pos[0]
         _check_status(status, self.params.max_events)
-        events = [
-            Event(float(ev_t[k]), _EVENT_TYPES[ev_k[k]], int(ev_a[k]), int(ev_b[k])) for k in range(min(nev, cap))
-        ]
-        return ShotResult.from_events(layout, events, pos), ev_e[: min(nev, cap)].copy()
+        nev = min(nev, cap)
+        columns = (ev_t[:nev].tolist(), ev_k[:nev].tolist(), ev_a[:nev].tolist(), ev_b[:nev].tolist())
+        events = [Event(t, _EVENT_TYPES[k], a, b) for t, k, a, b in zip(*columns, strict=True)]
+        return ShotResult.from_events(layout, events, pos), ev_e[:nev].copy()
 
     def simulate_batch(
         self, layout: TableLayout, shots: Sequence[Shot], stop: StopAfter = StopAfter.REST
