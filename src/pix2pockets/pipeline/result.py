@@ -129,7 +129,7 @@ class Suggestion:
     Attributes:
         image_size: (width, height) [px].
         corners_px: the 4 playing-surface corners (cushion-nose rectangle on the cloth) [px], (4, 2), in
-            ``TableSpec.corners`` order.
+            ``TableSpec.corners`` order; NaN (JSON ``null``) for a corner behind the camera.
         homography: image pixels -> table metres on the cloth (3, 3).
         balls: the located balls.
         shot: the suggested shot.
@@ -162,7 +162,9 @@ class Suggestion:
             "image": {"width": int(self.image_size[0]), "height": int(self.image_size[1])},
             "table": {
                 "spec": self.spec.name,
-                "corners_px": [[round(float(v), 2) for v in c] for c in self.corners_px],
+                "corners_px": [
+                    [round(float(v), 2) for v in c] if np.all(np.isfinite(c)) else None for c in self.corners_px
+                ],
                 "homography": [[float(v) for v in row] for row in self.homography],
             },
             "balls": [b.to_dict() for b in self.balls],
