@@ -3,7 +3,8 @@
 Each render (:func:`pix2pockets.synth.renderer.render`, random camera kind, occluders, crops, overlays)
 gives its labelled diamonds and visible ball boxes to :func:`fit_table` and :func:`locate_balls`.
 Reported per camera kind: fits, clear failures (``TableFitError``, with reasons), mean corner error [px]
-(corners up to half an image outside the frame) and mean ball error [cm] (scaled to a 9-ft table; assumed diamond height).
+(corners up to half an image outside the frame) and mean ball error [cm] (scaled to a 9-ft table;
+assumed diamond height).
 
 Usage:
     PYTHONPATH=src python benchmarks/rendered_fit.py --n 30 --json OUT.json [--size 960x540]
