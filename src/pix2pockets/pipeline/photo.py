@@ -40,7 +40,12 @@ def default_detector() -> Detector:
     """
     from pix2pockets.vision.onnx_detector import OnnxDetector
 
-    return OnnxDetector.from_default()
+    try:
+        return OnnxDetector.from_default()
+    except ValueError as err:
+        raise ValueError(
+            f"{err} (pass a model with --model / detector=, or train one: pix2pockets train-detector)"
+        ) from None
 
 
 def load_image(image: str | Path | np.ndarray) -> np.ndarray:
