@@ -36,6 +36,8 @@ class LocatedBall:
         bbox_px: box ``x1, y1, x2, y2`` [px].
         contact_px: where the ball touches the cloth, in the image [px].
         table_xy_m: ball centre in the table frame [m].
+        env_xy_px: the same in the paper's environment pixels (735 x 410 window, see
+            :func:`pix2pockets.geometry.raster.table_to_env_pixels`).
     """
 
     ball_class: str
@@ -43,6 +45,7 @@ class LocatedBall:
     bbox_px: tuple[float, float, float, float]
     contact_px: tuple[float, float]
     table_xy_m: tuple[float, float]
+    env_xy_px: tuple[float, float] = (float("nan"), float("nan"))
 
     def to_dict(self) -> dict:
         return {
@@ -51,6 +54,7 @@ class LocatedBall:
             "bbox_px": [round(v, 2) for v in self.bbox_px],
             "contact_px": [round(v, 2) for v in self.contact_px],
             "table_xy_m": [round(v, 4) for v in self.table_xy_m],
+            "env_xy_px": [round(v, 2) for v in self.env_xy_px],
         }
 
 
