@@ -36,6 +36,8 @@ class LocatedBall:
         bbox_px: box ``x1, y1, x2, y2`` [px].
         contact_px: where the ball touches the cloth, in the image [px].
         table_xy_m: ball centre in the table frame [m].
+        env_xy_px: the same in the paper's environment pixels (735 x 410 window, see
+            :func:`pix2pockets.geometry.raster.table_to_env_pixels`).
     """
 
     ball_class: str
@@ -43,6 +45,7 @@ class LocatedBall:
     bbox_px: tuple[float, float, float, float]
     contact_px: tuple[float, float]
     table_xy_m: tuple[float, float]
+    env_xy_px: tuple[float, float] = (float("nan"), float("nan"))
 
     def to_dict(self) -> dict:
         return {
@@ -51,6 +54,7 @@ class LocatedBall:
             "bbox_px": [round(v, 2) for v in self.bbox_px],
             "contact_px": [round(v, 2) for v in self.contact_px],
             "table_xy_m": [round(v, 4) for v in self.table_xy_m],
+            "env_xy_px": [round(v, 2) for v in self.env_xy_px],
         }
 
 
@@ -129,7 +133,7 @@ class Suggestion:
     Attributes:
         image_size: (width, height) [px].
         corners_px: the 4 playing-surface corners (cushion-nose rectangle on the cloth) [px], (4, 2), in
-            ``TableSpec.corners`` order.
+            ``TableSpec.corners`` order; NaN (JSON ``null``) for a corner behind the camera.
         homography: image pixels -> table metres on the cloth (3, 3).
         balls: the located balls.
         shot: the suggested shot.
@@ -162,7 +166,9 @@ class Suggestion:
             "image": {"width": int(self.image_size[0]), "height": int(self.image_size[1])},
             "table": {
                 "spec": self.spec.name,
-                "corners_px": [[round(float(v), 2) for v in c] for c in self.corners_px],
+                "corners_px": [
+                    [round(float(v), 2) for v in c] if np.all(np.isfinite(c)) else None for c in self.corners_px
+                ],
                 "homography": [[float(v) for v in row] for row in self.homography],
             },
             "balls": [b.to_dict() for b in self.balls],
