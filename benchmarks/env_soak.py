@@ -108,18 +108,31 @@ def main(argv: list[str] | None = None) -> int:
             if step % args.progress == 0:
                 rate = step / (time.perf_counter() - t0)
                 print(f"{step} steps, {counts['failures']} failures, {rate:.0f} steps/s", flush=True)
-    elapsed = time.perf_counter() - t0
-    summary = {**counts, "seconds": round(elapsed, 1), "steps_per_s": round(step / elapsed, 1)}
-    summary["physics"] = next(iter(envs.values())).simulator.name
-    summary["variants"] = len(envs)
+                _write(args.json, _summary(counts, envs, t0, step, args.steps), failures)
+    summary = _summary(counts, envs, t0, step, args.steps)
     print(json.dumps(summary))
     for f in failures:
         print(f, file=sys.stderr)
-    if args.json:
-        tmp = args.json.with_name(args.json.name + ".tmp")
-        tmp.write_text(json.dumps({**summary, "first_failures": failures}, indent=2) + "\n")
-        os.replace(tmp, args.json)
+    _write(args.json, summary, failures)
     return 1 if counts["failures"] else 0
+
+
+def _summary(counts: dict, envs: dict, t0: float, step: int, target: int) -> dict:
+    elapsed = time.perf_counter() - t0
+    summary = {**counts, "target_steps": target, "complete": step >= target}
+    summary.update(seconds=round(elapsed, 1), steps_per_s=round(step / elapsed, 1))
+    summary["physics"] = next(iter(envs.values())).simulator.name
+    summary["variants"] = len(envs)
+    return summary
+
+
+def _write(path: Path | None, summary: dict, failures: list[str]) -> None:
+    """Write the summary atomically (also as progress, so an interrupted run leaves its count)."""
+    if path is None:
+        return
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text(json.dumps({**summary, "first_failures": failures}, indent=2) + "\n")
+    os.replace(tmp, path)
 
 
 if __name__ == "__main__":

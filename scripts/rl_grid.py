@@ -10,6 +10,7 @@ Usage:
     PYTHONPATH=src python scripts/rl_grid.py evaluate --episodes 1000
     PYTHONPATH=src python scripts/rl_grid.py table            # markdown for docs/results.md
     PYTHONPATH=src python scripts/rl_grid.py plot --out docs/rl_learning_curves.png
+    PYTHONPATH=src python scripts/rl_grid.py speeds           # training steps/s per run
 """
 
 from __future__ import annotations
@@ -90,6 +91,14 @@ def model_steps(path: Path) -> int:
     return read_meta(path).steps
 
 
+def agent_file(run_dir: Path) -> Path | None:
+    """The run's final agent, else its latest checkpoint (a run cut short), else ``None``."""
+    for name in ("model.zip", "checkpoint.zip"):
+        if (run_dir / name).exists():
+            return run_dir / name
+    return None
+
+
 def do_train(args: argparse.Namespace) -> None:
     for run in select(args):
         out = Path(args.root) / run.name
@@ -135,9 +144,9 @@ def do_evaluate(args: argparse.Namespace) -> None:
                 str(out),
             )
     for run in select(args):
-        model = root / run.name / "model.zip"
+        model = agent_file(root / run.name)
         out = root / run.name / "eval.json"
-        if not model.exists():
+        if model is None:
             continue
         if out.exists() and json.loads(out.read_text())["trained_steps"] >= model_steps(model):
             continue
@@ -196,16 +205,31 @@ def do_plot(args: argparse.Namespace) -> None:
     cli("rl", "plot", *runs, "--out", args.out, "--window", str(args.window))
 
 
+def do_speeds(args: argparse.Namespace) -> None:
+    """Training throughput of each run, from its ``sessions.jsonl`` (all sessions together)."""
+    print("| run | steps | wall [s] | steps/s |")
+    print("|---|---|---|---|")
+    for run in select(args):
+        path = Path(args.root) / run.name / "sessions.jsonl"
+        if not path.exists():
+            continue
+        rows = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+        steps = sum(r["steps"] for r in rows)
+        wall = sum(r["wall_s"] for r in rows)
+        if steps:
+            print(f"| {run.name} | {steps} | {wall:.0f} | {steps / wall:.1f} |")
+
+
 def do_list(args: argparse.Namespace) -> None:
     for run in select(args):
-        model = Path(args.root) / run.name / "model.zip"
-        state = f"{model_steps(model)} steps" if model.exists() else "not started"
+        model = agent_file(Path(args.root) / run.name)
+        state = f"{model_steps(model)} steps ({model.name})" if model else "not started"
         print(f"{run.name:32s} {state}")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description="The paper's RL grid: train / evaluate / table / plot.")
-    parser.add_argument("action", choices=("list", "train", "evaluate", "table", "plot"))
+    parser.add_argument("action", choices=("list", "train", "evaluate", "table", "plot", "speeds"))
     parser.add_argument("--root", default="runs/rl")
     parser.add_argument("--env", nargs="+", choices=ENVS)
     parser.add_argument("--only", nargs="+", help="run names (see list)")
@@ -217,7 +241,9 @@ def main() -> None:
     parser.add_argument("--out", default="docs/rl_learning_curves.png")
     parser.add_argument("--window", type=int, default=2000)
     args = parser.parse_args()
-    {"list": do_list, "train": do_train, "evaluate": do_evaluate, "table": do_table, "plot": do_plot}[args.action](args)
+    actions = {"list": do_list, "train": do_train, "evaluate": do_evaluate, "table": do_table, "plot": do_plot}
+    actions["speeds"] = do_speeds
+    actions[args.action](args)
 
 
 if __name__ == "__main__":

@@ -13,11 +13,11 @@ import pix2pockets  # noqa: F401  (registers the ids)
 from pix2pockets.env import ENV_IDS
 from pix2pockets.env.pool_env import PoolEnv
 from pix2pockets.state import Ball, Group, TableLayout, eight_ball_rack
-from tests.env.conftest import FAST_PHYSICS
+from tests.env.conftest import BACKENDS, DEFAULT_PHYSICS, FAST_PHYSICS
 
 
-def _env(balls: str = "all", **kw) -> PoolEnv:
-    return PoolEnv(balls=balls, **{**FAST_PHYSICS, **kw})
+def _env(balls: str = "all", backend: str = "pymunk", **kw) -> PoolEnv:
+    return PoolEnv(balls=balls, **{**BACKENDS[backend], **kw})
 
 
 def test_ids_registered_on_import() -> None:
@@ -31,16 +31,18 @@ def test_ids_registered_on_import() -> None:
 @pytest.mark.parametrize("env_id", sorted(ENV_IDS))
 @pytest.mark.parametrize("action_type", ["discrete", "continuous"])
 def test_check_env_gymnasium_and_sb3(env_id: str, action_type: str) -> None:
-    env = gym.make(env_id, action_type=action_type, **FAST_PHYSICS)
+    env = gym.make(env_id, action_type=action_type, **DEFAULT_PHYSICS)
     gym_check_env(env.unwrapped, skip_render_check=True)
     sb3_checker = pytest.importorskip("stable_baselines3.common.env_checker")
     sb3_checker.check_env(env.unwrapped, warn=True)
     env.close()
 
 
+@pytest.mark.parametrize("backend", sorted(BACKENDS))
 @pytest.mark.parametrize("balls", ["one", "two", "all"])
-def test_seeded_determinism(balls: str) -> None:
-    a, b = _env(balls, aim_noise_deg=0.5, speed_noise=0.1), _env(balls, aim_noise_deg=0.5, speed_noise=0.1)
+def test_seeded_determinism(balls: str, backend: str) -> None:
+    noise = {"aim_noise_deg": 0.5, "speed_noise": 0.1}
+    a, b = _env(balls, backend, **noise), _env(balls, backend, **noise)
     oa, _ = a.reset(seed=42)
     ob, _ = b.reset(seed=42)
     assert np.array_equal(oa, ob)
@@ -73,8 +75,9 @@ def _aim(env: PoolEnv, start: tuple[float, float], target: tuple[float, float], 
     return np.array([int(env.actions.bin_of_angle(angle)), power])
 
 
-def test_two_ball_straight_in_wins() -> None:
-    env = _env("two")
+@pytest.mark.parametrize("backend", sorted(BACKENDS))
+def test_two_ball_straight_in_wins(backend: str) -> None:
+    env = _env("two", backend)
     env.reset(seed=0, options={"layout": _straight_in_layout()})
     obs, reward, terminated, truncated, info = env.step(_aim(env, (0.6, 0.6), (0.3, 0.3)))
     assert info["outcome"] == "win" and info["is_success"]
@@ -86,8 +89,9 @@ def test_two_ball_straight_in_wins() -> None:
     assert np.all(obs.reshape(16, 3)[8] == [-1, -1, 0])  # the 8 is gone
 
 
-def test_one_ball_success_has_no_cue_penalty() -> None:
-    env = _env("one")
+@pytest.mark.parametrize("backend", sorted(BACKENDS))
+def test_one_ball_success_has_no_cue_penalty(backend: str) -> None:
+    env = _env("one", backend)
     cue_only = TableLayout((Ball.numbered(0),), [(0.4, 0.4)])
     env.reset(seed=0, options={"layout": cue_only})
     _, reward, terminated, _, info = env.step(_aim(env, (0.4, 0.4), (0.0, 0.0)))
@@ -105,25 +109,27 @@ def test_one_ball_miss_distance_penalty() -> None:
     assert -50 / 210 <= reward < 0
 
 
-def test_all_ball_turn_continues_after_a_pot() -> None:
+@pytest.mark.parametrize("backend", sorted(BACKENDS))
+def test_all_ball_turn_continues_after_a_pot(backend: str) -> None:
     balls = (Ball.numbered(0), Ball.numbered(1), Ball.numbered(8), Ball.numbered(9))
     layout = TableLayout(balls, [(0.6, 0.6), (0.3, 0.3), (2.0, 1.0), (1.8, 0.3)])
-    env = _env("all")
+    env = _env("all", backend)
     env.reset(seed=0, options={"layout": layout, "group": "solids"})
     obs, reward, terminated, _, info = env.step(_aim(env, (0.6, 0.6), (0.3, 0.3)))
     assert info["outcome"] == "continue" and not terminated and reward > 0
     assert np.all(obs.reshape(16, 3)[1] == [-1, -1, 0])
     assert env.targets() == [env.layout.black_index]  # group cleared: the 8 is next
-    shot_env = _env("all", mode="shot")
+    shot_env = _env("all", backend, mode="shot")
     shot_env.reset(seed=0, options={"layout": layout, "group": "solids"})
     *_, terminated, _, info = shot_env.step(_aim(shot_env, (0.6, 0.6), (0.3, 0.3)))
     assert terminated and info["is_success"]
 
 
-def test_early_eight_loses() -> None:
+@pytest.mark.parametrize("backend", sorted(BACKENDS))
+def test_early_eight_loses(backend: str) -> None:
     balls = (Ball.numbered(0), Ball.numbered(8), Ball.numbered(2))
     layout = TableLayout(balls, [(0.6, 0.6), (0.3, 0.3), (2.0, 1.0)])
-    env = _env("all")
+    env = _env("all", backend)
     env.reset(seed=0, options={"layout": layout, "group": "solids"})
     _, reward, terminated, _, info = env.step(_aim(env, (0.6, 0.6), (0.3, 0.3)))
     assert info["outcome"] == "loss" and terminated and not info["is_success"]
@@ -164,6 +170,12 @@ def test_bad_arguments(kw: dict) -> None:
 def test_unknown_reset_option() -> None:
     with pytest.raises(ValueError, match="unknown reset options"):
         _env().reset(options={"layuot": None})
+
+
+def test_check_env_with_rendering() -> None:
+    env = gym.make("pix2pockets/TwoBall-v0", render_mode="rgb_array", render_width=300)
+    gym_check_env(env.unwrapped)
+    env.close()
 
 
 def test_render_rgb_array() -> None:

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from pix2pockets.env.pool_env import PoolEnv
-from tests.env.conftest import FAST_PHYSICS
+from tests.env.conftest import DEFAULT_PHYSICS
 
 sb3 = pytest.importorskip("stable_baselines3")
 torch = pytest.importorskip("torch")
@@ -31,7 +31,7 @@ def _one_thread() -> None:
 @pytest.mark.parametrize("algo", sorted(ALGOS))
 def test_sb3_algorithms_train(algo: str) -> None:
     action_type = "continuous" if algo in CONTINUOUS_ONLY else "discrete"
-    env = PoolEnv(balls="two", action_type=action_type, **FAST_PHYSICS)
+    env = PoolEnv(balls="two", action_type=action_type, **DEFAULT_PHYSICS)
     model = getattr(sb3, algo)("MlpPolicy", env, seed=0, device="cpu", verbose=0, **ALGOS[algo])
     model.learn(total_timesteps=STEPS)
     obs, _ = env.reset(seed=1)
@@ -45,7 +45,7 @@ def test_maskable_ppo_trains_with_hitpoint_masks(balls: str, mask_kind: str) -> 
     contrib = pytest.importorskip("sb3_contrib")
     from sb3_contrib.common.maskable.utils import get_action_masks
 
-    env = PoolEnv(balls=balls, mask_kind=mask_kind, **FAST_PHYSICS)
+    env = PoolEnv(balls=balls, mask_kind=mask_kind, **DEFAULT_PHYSICS)
     model = contrib.MaskablePPO("MlpPolicy", env, n_steps=64, batch_size=32, n_epochs=1, seed=0, device="cpu")
     model.learn(total_timesteps=STEPS)
     obs, _ = env.reset(seed=3)

@@ -7,7 +7,7 @@ import pytest
 
 from pix2pockets.synth import raycast as rc
 from pix2pockets.synth import render, render_sample, render_views
-from pix2pockets.synth.render import parse_size
+from pix2pockets.synth.renderer import parse_size
 
 SIZE = (320, 180)
 SEEDS = list(range(8))

@@ -4,7 +4,7 @@ import pytest
 from pix2pockets.geometry import PinholeCamera, TableSpec
 from pix2pockets.vision.analytic import standard_views
 from pix2pockets.vision.detections import Detections
-from pix2pockets.vision.table_fit import TableFitError, fit_rail_lines, fit_table
+from pix2pockets.vision.table_fit import TableFitError, diamond_height, fit_rail_lines, fit_table
 
 SPEC = TableSpec()
 VIEWS = standard_views(SPEC)
@@ -12,7 +12,7 @@ VIEWS = standard_views(SPEC)
 
 def dots_of(cam: PinholeCamera, noise: float = 0.0, seed: int = 0) -> np.ndarray:
     rng = np.random.default_rng(seed)
-    return cam.project_table(SPEC.diamonds, SPEC.cushion_height) + rng.normal(0, noise, (18, 2))
+    return cam.project_table(SPEC.diamonds, diamond_height(SPEC)) + rng.normal(0, noise, (18, 2))
 
 
 @pytest.mark.parametrize("view", sorted(VIEWS))

@@ -37,6 +37,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     ev.add_argument("--json", metavar="OUT.json", help="write the numbers as JSON")
     ev.set_defaults(func=run_evaluate)
 
+    ex = rl_sub.add_parser("export", help="slim copy of an agent (float16 weights, no optimizer state) to ship")
+    ex.add_argument("--model", required=True, help="agent file from `rl train`")
+    ex.add_argument("--out", required=True, help="output .zip")
+    ex.add_argument("--full-precision", action="store_true", help="keep float32 weights")
+    ex.set_defaults(func=run_export)
+
     pl = rl_sub.add_parser("plot", help="learning curves (per-shot success) of run directories as a PNG")
     pl.add_argument("runs", nargs="+", help="run directories (each with monitor.csv and config.json)")
     pl.add_argument("--out", required=True, help="PNG path")
@@ -92,6 +98,15 @@ def run_evaluate(args: argparse.Namespace) -> int:
     print(result.summary())
     if args.json:
         Path(args.json).write_text(json.dumps(result.to_dict(), indent=2) + "\n")
+    return 0
+
+
+def run_export(args: argparse.Namespace) -> int:
+    _require_rl()
+    from pix2pockets.rl.export import slim_agent
+
+    path = slim_agent(args.model, args.out, half=not args.full_precision)
+    print(f"wrote {path} ({path.stat().st_size / 1e6:.2f} MB)")
     return 0
 
 

@@ -9,7 +9,8 @@ import tempfile
 from importlib import resources
 from pathlib import Path
 
-EXAMPLE_PHOTO = "table_example.png"
+EXAMPLE_PHOTO = "table_example.jpg"
+EXAMPLE_LABELS = "table_example.labels.json"
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".webp")
 
 

@@ -26,7 +26,7 @@ from pix2pockets.physics import Simulator, make_simulator
 from pix2pockets.rules import GameState, Outcome, own_balls, turn_outcome
 from pix2pockets.state import BallClass, Group, Shot, TableLayout, random_layout
 
-DEFAULT_PHYSICS = "pymunk"
+DEFAULT_PHYSICS = "event"
 """Simulator backend used when ``physics`` is not given."""
 
 _BALL_NUMBERS = {BallSetup.ONE: [0], BallSetup.TWO: [0, 8], BallSetup.ALL: list(range(16))}
@@ -112,8 +112,8 @@ class PoolEnv(gym.Env):
     ## Episode End
     Terminated: in ``mode="turn"`` (default) at the first shot that does not earn another shot, or at a
     win or a loss; in ``mode="shot"`` after every shot. Never truncated (a turn has at most 8 shots).
-    ``info``: ``outcome``, ``fouls``, ``pocketed``, ``shot_success``, ``shots``, ``reward_terms`` and, at
-    the end, ``is_success``.
+    ``info``: ``outcome``, ``fouls``, ``pocketed``, ``shot_success``, ``won``, ``shots``,
+    ``reward_terms`` and, at the end, ``is_success``.
 
     ## Arguments
     ``gymnasium.make("pix2pockets/AllBall-v0", **kwargs)`` or ``PoolEnv(balls="all", **kwargs)``:
@@ -247,7 +247,8 @@ class PoolEnv(gym.Env):
         ctx = ShotContext(
             self.setup, shot, result, targets, turn, won, lost, succeeded, contact_departure(result, shot)
         )
-        reward = float(self.reward_fn(ctx))
+        terms = self.reward_fn.terms(ctx) if isinstance(self.reward_fn, PaperReward) else None
+        reward = float(self.reward_fn.total(terms) if terms is not None else self.reward_fn(ctx))
         self._shots += 1
         self._last_shot = shot
         self._last_start = before.positions[cue].copy()
@@ -261,10 +262,11 @@ class PoolEnv(gym.Env):
             "fouls": fouls,
             "pocketed": len(result.pocketed),
             "shot_success": succeeded,
+            "won": won,
             "shots": self._shots,
         }
-        if isinstance(self.reward_fn, PaperReward):
-            info["reward_terms"] = self.reward_fn.terms(ctx)
+        if terms is not None:
+            info["reward_terms"] = terms
         if terminated:
             info["is_success"] = won if self.mode is EpisodeMode.TURN else succeeded
         if self.render_mode == "human":

@@ -141,9 +141,13 @@ class PaperReward:
             out["cue_pocketed"] = self.cue_pocketed
         return out
 
-    def __call__(self, ctx: ShotContext) -> float:
-        total = float(np.clip(sum(self.terms(ctx).values()), -self.clip, self.clip))
+    def total(self, terms: dict[str, float]) -> float:
+        """The reward from :meth:`terms`: summed, clipped and (optionally) normalised."""
+        total = float(np.clip(sum(terms.values()), -self.clip, self.clip))
         return total / self.clip if self.normalize else total
+
+    def __call__(self, ctx: ShotContext) -> float:
+        return self.total(self.terms(ctx))
 
 
 def _best_pocket_angle_deg(ball: np.ndarray, direction: np.ndarray, pockets: np.ndarray) -> float:

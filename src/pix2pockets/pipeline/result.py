@@ -13,6 +13,7 @@ import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.state.layout import TableLayout
+from pix2pockets.state.shot import Shot
 
 MIN_SPEED = 0.2  # [m/s] power level 1 (the environment's ActionConfig.min_speed)
 MAX_SPEED = 8.0  # [m/s] power level 30 (ActionConfig.max_speed)
@@ -69,6 +70,7 @@ class ShotAdvice:
         object_path: the object ball's planned path [m], (k, 2): ball, (cushion,) pocket.
         ghost: ghost-ball centre [m] (``None`` for a safety).
         safety: no pocketable shot was found; this is the planner's safe play.
+        stroke: the full stroke (with tip offsets), for replaying in a simulator.
     """
 
     target_ball: int | None
@@ -82,6 +84,7 @@ class ShotAdvice:
     object_path: np.ndarray
     ghost: np.ndarray | None
     safety: bool = False
+    stroke: Shot | None = None
 
     @property
     def power_level(self) -> int:
@@ -99,6 +102,9 @@ class ShotAdvice:
             "success_probability": None if p is None else round(p, 4),
             "group": self.group,
             "safety": self.safety,
+            "tip_offset": None
+            if self.stroke is None
+            else {"side": round(self.stroke.side, 3), "height": round(self.stroke.height, 3)},
         }
 
     def describe(self, balls: tuple[LocatedBall, ...]) -> str:

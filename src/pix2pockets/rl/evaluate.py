@@ -167,12 +167,10 @@ def model_policy(model: Any, maskable: bool) -> Policy:
 
 def evaluate_model(path: str, episodes: int, seed: int = 0) -> EvalResult:
     """Evaluate an agent file saved by ``pix2pockets rl train`` on the env it was trained on."""
-    import torch
-
-    from pix2pockets.rl.algos import algo_spec, load_model
+    from pix2pockets.rl.algos import algo_spec, configure_torch, load_model
     from pix2pockets.rl.bundle import read_meta
 
-    torch.set_num_threads(1)
+    configure_torch()
     meta = read_meta(path)
     model = load_model(meta.algo, path)
     env = make_env(meta.choice)

@@ -22,15 +22,17 @@ from numba import njit
 # ---- geometry vector indices (metres, table frame)
 G_L, G_W, G_H, G_HR, G_CW, G_RW, G_ZA, G_BI, G_ZF, G_ZC = range(10)
 G_RX0, G_RX1, G_RY0, G_RY1, G_BR, G_LINER, G_DR, G_KC, G_KS, G_DC, G_SS, G_ZHB = range(10, 22)
-N_GEO = 22
+G_LEGS, G_LEGW, G_SKIRT = range(22, 25)  # legs: 0 closed cabinet, 4 or 6 legs; leg width, skirt depth [m]
+G_RUGX, G_RUGY = range(25, 27)  # half-size of a rug under the table [m] (0: none)
+N_GEO = 27
 # ---- shading vector indices
 S_AMB, S_CLOTH_TEX, S_CLOTH_SCALE, S_RAIL_TEX, S_RAIL_GLOSS, S_RAIL_SHIN, S_BALL_KS, S_BALL_SHIN = range(8)
 S_FLOOR_SCALE, S_BOUNCE, S_DIA_SHAPE, S_CUE_DOTS, S_BAND, S_NUMR, S_REFL, S_ROOM = range(8, 16)
 S_CLOTH_NAP, S_AO = range(16, 18)
 N_SHADE = 18
 # ---- material rows
-M_CLOTH, M_RAIL, M_APRON, M_BODY, M_LINER, M_DIAMOND, M_CEIL, M_AMBCOL, M_WALLTINT = range(9)
-N_MATS = 9
+M_CLOTH, M_RAIL, M_APRON, M_BODY, M_LINER, M_DIAMOND, M_CEIL, M_AMBCOL, M_WALLTINT, M_RUG = range(10)
+N_MATS = 10
 
 # ---- object ids in the id buffer
 ID_NONE = 0
@@ -50,6 +52,8 @@ ID_BALL0 = 40  # balls 0-15 -> 40-55
 
 BALL_CUE, BALL_SOLID, BALL_STRIPE = 0, 1, 2
 INF = 1e30
+KU = 0.8  # cushion undercut: the face below the nose runs KU m back per m of depth (hidden from above ~51 deg)
+KN = 1.0 / math.sqrt(1.0 + KU * KU)
 
 
 @njit(cache=True, inline="always")
@@ -82,6 +86,19 @@ def _in_cushion(x, y, geo):
         o = -x if x < 0.0 else x - L
         return dc - kc * o <= y <= W - dc + kc * o
     return False
+
+
+@njit(cache=True)
+def _body_solid(along, lo, hi, z, za, geo):
+    """Whether the table body exists at this point of one of its faces (cabinet, or legs + skirt)."""
+    legs = geo[G_LEGS]
+    if legs < 0.5 or z > za - geo[G_SKIRT]:
+        return True
+    w = geo[G_LEGW]
+    if along - lo < w or hi - along < w:
+        return True
+    mid = 0.5 * (lo + hi)
+    return legs > 5.5 and abs(along - mid) < 0.5 * w and hi - lo > 2.0
 
 
 @njit(cache=True)
@@ -129,9 +146,19 @@ def _ball_shadow(px, py, pz, lx, ly, lz, lsize, balls, r, skip):
     uy = vy / D
     uz = vz / D
     f = 1.0
+    lift = lz - pz
     for j in range(balls.shape[0]):
         if j == skip:
             continue
+        # cheap cull: where the segment to the light crosses the ball centre's height, it must pass
+        # within a few radii of the centre (plus the penumbra of a large light)
+        tc = (balls[j, 2] - pz) / lift
+        if tc > 0.0:
+            qx = px + tc * vx - balls[j, 0]
+            qy = py + tc * vy - balls[j, 1]
+            lim = 2.0 * r + 2.0 * lsize * tc
+            if qx * qx + qy * qy > lim * lim:
+                continue
         wx = balls[j, 0] - px
         wy = balls[j, 1] - py
         wz = balls[j, 2] - pz
@@ -224,10 +251,12 @@ def render_scene(
     wall_tex,
     rgb,
     ids,
+    depth,
     sil_count,
 ):
-    """Trace and shade every pixel. Writes ``rgb`` (H, W, 3), ``ids`` (H, W) and ``sil_count`` (n balls,):
-    the number of pixels whose ray meets each ball's sphere at all (occluded or not)."""
+    """Trace and shade every pixel. Writes ``rgb`` (H, W, 3), ``ids`` (H, W), ``depth`` (H, W): distance
+    along the ray to the hit [m], and ``sil_count`` (n balls,): the number of pixels whose ray meets each
+    ball's sphere at all (occluded or not)."""
     L = geo[G_L]
     Wd = geo[G_W]
     h = geo[G_H]
@@ -388,32 +417,39 @@ def render_scene(
             # ---------------- vertical faces: cushion noses (inside), apron and body (outside), walls
             # x = const faces
             if dx != 0.0:
-                # nose faces at x = 0 (facing +x) and x = L (facing -x), seen from inside the table
+                # undercut cushion faces below the noses at x = 0 and x = L (seen from inside the table):
+                # x = x_nose - s * ku * (h - z), s = +1 at the head rail, -1 at the foot rail
                 for side in range(2):
                     xp = 0.0 if side == 0 else L
-                    if (side == 0 and dx < 0.0 and ox > 0.0) or (side == 1 and dx > 0.0 and ox < L):
-                        t = (xp - ox) / dx
+                    sg = 1.0 if side == 0 else -1.0
+                    den = dx - sg * KU * dz
+                    if sg * (ox - xp) > 0.0 and sg * dx - KU * dz < 0.0 and den != 0.0:
+                        t = (xp - sg * KU * (h - oz) - ox) / den
                         if 0.0 < t < best:
                             z = oz + t * dz
                             y = oy + t * dy
                             if 0.0 <= z <= h and geo[G_DC] <= y <= Wd - geo[G_DC]:
                                 best = t
                                 hit = ID_NOSE
-                                nx, ny, nz = (1.0 if side == 0 else -1.0), 0.0, 0.0
+                                nx, ny, nz = sg * KN, 0.0, -KU * KN
                     # apron / outer rail faces and body, seen from outside
                     for layer in range(2):
                         off = rw if layer == 0 else rw - bi
                         xp2 = -off if side == 0 else L + off
                         outside = ox < xp2 if side == 0 else ox > xp2
                         toward = dx > 0.0 if side == 0 else dx < 0.0
-                        if outside and toward:
+                        if (outside and toward) or (layer == 1 and geo[G_LEGS] > 0.5):
                             t = (xp2 - ox) / dx
                             if 0.0 < t < best:
                                 z = oz + t * dz
                                 y = oy + t * dy
                                 lo = za if layer == 0 else zf
                                 hi = hr if layer == 0 else za
-                                if lo <= z <= hi and -off <= y <= Wd + off:
+                                if (
+                                    lo <= z <= hi
+                                    and -off <= y <= Wd + off
+                                    and (layer == 0 or _body_solid(y, -off, Wd + off, z, za, geo))
+                                ):
                                     best = t
                                     hit = ID_APRON if layer == 0 else ID_BODY
                                     nx, ny, nz = (-1.0 if side == 0 else 1.0), 0.0, 0.0
@@ -427,8 +463,10 @@ def render_scene(
             if dy != 0.0:
                 for side in range(2):
                     yp = 0.0 if side == 0 else Wd
-                    if (side == 0 and dy < 0.0 and oy > 0.0) or (side == 1 and dy > 0.0 and oy < Wd):
-                        t = (yp - oy) / dy
+                    sg = 1.0 if side == 0 else -1.0
+                    den = dy - sg * KU * dz
+                    if sg * (oy - yp) > 0.0 and sg * dy - KU * dz < 0.0 and den != 0.0:
+                        t = (yp - sg * KU * (h - oz) - oy) / den
                         if 0.0 < t < best:
                             z = oz + t * dz
                             x = ox + t * dx
@@ -437,20 +475,24 @@ def render_scene(
                             if 0.0 <= z <= h and (dcn <= x <= L * 0.5 - ssn or L * 0.5 + ssn <= x <= L - dcn):
                                 best = t
                                 hit = ID_NOSE
-                                nx, ny, nz = 0.0, (1.0 if side == 0 else -1.0), 0.0
+                                nx, ny, nz = 0.0, sg * KN, -KU * KN
                     for layer in range(2):
                         off = rw if layer == 0 else rw - bi
                         yp2 = -off if side == 0 else Wd + off
                         outside = oy < yp2 if side == 0 else oy > yp2
                         toward = dy > 0.0 if side == 0 else dy < 0.0
-                        if outside and toward:
+                        if (outside and toward) or (layer == 1 and geo[G_LEGS] > 0.5):
                             t = (yp2 - oy) / dy
                             if 0.0 < t < best:
                                 z = oz + t * dz
                                 x = ox + t * dx
                                 lo = za if layer == 0 else zf
                                 hi = hr if layer == 0 else za
-                                if lo <= z <= hi and -off <= x <= L + off:
+                                if (
+                                    lo <= z <= hi
+                                    and -off <= x <= L + off
+                                    and (layer == 0 or _body_solid(x, -off, L + off, z, za, geo))
+                                ):
                                     best = t
                                     hit = ID_APRON if layer == 0 else ID_BODY
                                     nx, ny, nz = 0.0, (-1.0 if side == 0 else 1.0), 0.0
@@ -462,6 +504,7 @@ def render_scene(
                     nx, ny, nz = 0.0, (1.0 if dy < 0.0 else -1.0), 0.0
 
             ids[v, u] = hit
+            depth[v, u] = best
             if hit == ID_NONE:
                 rgb[v, u, 0] = 0.0
                 rgb[v, u, 1] = 0.0
@@ -498,14 +541,18 @@ def render_scene(
                 sc = shade[S_CLOTH_SCALE]
                 n1 = _sample_tex2(noise, px * sc, py * sc)
                 n2 = _sample_tex2(noise, px * sc * 9.0 + 17.0, py * sc * 9.0 + 5.0)
-                f = 1.0 + shade[S_CLOTH_TEX] * (0.6 * n1 + 0.4 * n2)
+                f = 1.0 + shade[S_CLOTH_TEX] * (0.8 * n1 + 0.2 * n2)
                 ar = mats[M_CLOTH, 0] * f
                 ag = mats[M_CLOTH, 1] * f
                 ab = mats[M_CLOTH, 2] * f
                 if hit == ID_NOSE:
-                    ar *= 0.6
-                    ag *= 0.6
-                    ab *= 0.6
+                    ar *= 0.8
+                    ag *= 0.8
+                    ab *= 0.8
+                elif hit == ID_CUSHION:
+                    ar *= 0.92
+                    ag *= 0.92
+                    ab *= 0.92
                 receives_ball_shadow = True
                 ks = shade[S_CLOTH_NAP]
                 shin = 4.0
@@ -548,8 +595,8 @@ def render_scene(
                 ks = 0.3
                 shin = 30.0
             elif hit == ID_HOLE:
-                depth = _hole_depth(ox, oy, oz, dx, dy, dz, best, holes, aux, zhb)
-                f = 0.45 * math.exp(-depth / 0.025)
+                hdepth = _hole_depth(ox, oy, oz, dx, dy, dz, best, holes, aux, zhb)
+                f = 0.45 * math.exp(-hdepth / 0.025)
                 ar = mats[M_LINER, 0] * f + 0.004
                 ag = mats[M_LINER, 1] * f + 0.004
                 ab = mats[M_LINER, 2] * f + 0.004
@@ -560,9 +607,18 @@ def render_scene(
                 ao = 0.6
             elif hit == ID_FLOOR:
                 fs = shade[S_FLOOR_SCALE]
-                ar = _sample_tex2(floor_tex[:, :, 0], px * fs, py * fs)
-                ag = _sample_tex2(floor_tex[:, :, 1], px * fs, py * fs)
-                ab = _sample_tex2(floor_tex[:, :, 2], px * fs, py * fs)
+                fi = math.floor(px * fs) % floor_tex.shape[0]
+                fj = math.floor(py * fs) % floor_tex.shape[1]
+                ar = floor_tex[fi, fj, 0] * (1.0 / 255.0)
+                ag = floor_tex[fi, fj, 1] * (1.0 / 255.0)
+                ab = floor_tex[fi, fj, 2] * (1.0 / 255.0)
+                if abs(px - 0.5 * L) < geo[G_RUGX] and abs(py - 0.5 * Wd) < geo[G_RUGY]:
+                    rn = 1.0 + 0.25 * _sample_tex2(noise, px * 90.0, py * 90.0)
+                    border = min(geo[G_RUGX] - abs(px - 0.5 * L), geo[G_RUGY] - abs(py - 0.5 * Wd)) < 0.08
+                    rf = 0.5 if border else 1.0
+                    ar = mats[M_RUG, 0] * rn * rf + (0.3 if border else 0.0) * mats[M_RUG, 1]
+                    ag = mats[M_RUG, 1] * rn * rf
+                    ab = mats[M_RUG, 2] * rn * rf
                 # shadow under the table
                 ex = max(max(-rw - px, px - (L + rw)), 0.0)
                 ey = max(max(-rw - py, py - (Wd + rw)), 0.0)
@@ -571,17 +627,18 @@ def render_scene(
                 ks = 0.15
                 shin = 20.0
             elif hit == ID_WALL:
+                # unroll the walls so text reads left to right from inside the room
                 if abs(ny) > 0.5:
-                    s = (px - rx0) if ny > 0 else (rx1 - rx0) + (ry1 - ry0) + (rx1 - px)
+                    s = (rx1 - px) if ny > 0 else (rx1 - rx0) + (ry1 - ry0) + (px - rx0)
                 else:
-                    s = (rx1 - rx0) + (py - ry0) if nx < 0 else 2 * (rx1 - rx0) + (ry1 - ry0) + (ry1 - py)
+                    s = (rx1 - rx0) + (ry1 - py) if nx < 0 else 2 * (rx1 - rx0) + (ry1 - ry0) + (py - ry0)
                 hw = wall_tex.shape[0]
                 ww = wall_tex.shape[1]
                 tv = int(_clamp((zc - pz) / (zc - zf) * hw, 0.0, hw - 1.0))
                 tu = int(s / perim * ww) % ww
-                ar = wall_tex[tv, tu, 0] * mats[M_WALLTINT, 0]
-                ag = wall_tex[tv, tu, 1] * mats[M_WALLTINT, 1]
-                ab = wall_tex[tv, tu, 2] * mats[M_WALLTINT, 2]
+                ar = wall_tex[tv, tu, 0] * (mats[M_WALLTINT, 0] / 255.0)
+                ag = wall_tex[tv, tu, 1] * (mats[M_WALLTINT, 1] / 255.0)
+                ab = wall_tex[tv, tu, 2] * (mats[M_WALLTINT, 2] / 255.0)
             elif hit == ID_CEIL:
                 ar = mats[M_CEIL, 0]
                 ag = mats[M_CEIL, 1]

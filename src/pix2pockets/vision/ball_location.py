@@ -29,6 +29,7 @@ from pix2pockets.state.ball import Ball
 from pix2pockets.state.layout import TableLayout
 from pix2pockets.vision.classes import ball_class_of
 from pix2pockets.vision.detections import Detections
+from pix2pockets.vision.table_fit import diamond_height
 
 
 class LocateMethod(StrEnum):
@@ -91,7 +92,7 @@ def locate_linear(camera: PinholeCamera, boxes: np.ndarray, spec: TableSpec) -> 
     centre = _box_centres(boxes)
     top = np.column_stack([centre[:, 0], boxes[:, 1]])
     point = centre + frac * (top - centre)
-    return apply_homography(np.linalg.inv(camera.table_homography(spec.cushion_height)), point)
+    return apply_homography(np.linalg.inv(camera.table_homography(diamond_height(spec))), point)
 
 
 @dataclass(frozen=True, slots=True, eq=False)

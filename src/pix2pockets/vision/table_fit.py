@@ -13,7 +13,7 @@ The method follows the paper (section 5.1) and makes it robust to missing dots:
    table frame with its handedness reversed in pixel coordinates (``v`` down).
 3. **Corners.** Where two adjacent rails each have at least two dots, their lines intersect in a corner of
    the diamond rectangle, ``(-s, -s)`` ... ``(L + s, W + s)`` for the diamond setback ``s``, on the rail
-   cap at ``cushion_height`` (not at the cushion nose corners). The corners are validated (convex,
+   cap at :func:`diamond_height` (not at the cushion nose corners). The corners are validated (convex,
    in a plausible region around the image, consistent with the fitted table) and added to the points.
 4. **Homography and camera.** A robust homography (``cv2.USAC_MAGSAC``) from all matched points, then
    the camera (focal length, pose) from it, refined on the points at their true height
@@ -45,6 +45,17 @@ RAIL_DIAMONDS: tuple[tuple[int, ...], ...] = ((0, 1, 2, 3, 4, 5), (6, 7, 8), (9,
 MIN_DOTS = 4
 MAX_DOTS = 40  # more candidates than this are cut by confidence (false positives)
 MAX_HYPOTHESES = 2000  # rail-assignment hypotheses tried before giving up on better ones
+
+
+DIAMOND_RISE = 0.0075
+"""Height of the rail cap (where the diamonds sit) above the cushion nose [m]. Rail caps stand a few
+millimetres above the nose; 7.5 mm is the middle of the synthetic renderer's 3-12 mm range. A wrong
+height shifts located balls by about the error x tan(camera tilt), so it matters for low views."""
+
+
+def diamond_height(spec: TableSpec) -> float:
+    """Height of the diamond centres above the cloth [m]: ``cushion_height + DIAMOND_RISE``."""
+    return spec.cushion_height + DIAMOND_RISE
 
 
 class TableFitError(ValueError):
@@ -224,13 +235,18 @@ def _line_candidates(points: np.ndarray, line: np.ndarray, spec: TableSpec) -> l
 
 def _hypotheses(points: np.ndarray, line_a: np.ndarray, line_b: np.ndarray, spec: TableSpec):
     """Yield (dot indices, diamond indices) for two lines assigned to two different rails."""
-    cand_a = _line_candidates(points, line_a, spec)
-    cand_b = _line_candidates(points, line_b, spec)
-    dots = np.concatenate([line_a, line_b])
-    for ra, da in cand_a:
-        for rb, db in cand_b:
+
+    # only the end dots of each line enter the minimal 4-point homography: candidates that differ only
+    # inside a line give the same map, so they are tried once (the interior is checked by the matching)
+    def ends(line: np.ndarray) -> dict[tuple[int, int, int], None]:
+        return {(r, int(d[0]), int(d[-1])): None for r, d in _line_candidates(points, line, spec)}
+
+    cand_a, cand_b = ends(line_a), ends(line_b)
+    dots = np.array([line_a[0], line_a[-1], line_b[0], line_b[-1]])
+    for ra, a0, a1 in cand_a:
+        for rb, b0, b1 in cand_b:
             if ra != rb:
-                yield dots, np.concatenate([da, db])
+                yield dots, np.array([a0, a1, b0, b1])
 
 
 def label_dots(dots: np.ndarray, lines: list[np.ndarray], spec: TableSpec, tol_m: float | None = None) -> np.ndarray:
@@ -266,9 +282,10 @@ def label_dots(dots: np.ndarray, lines: list[np.ndarray], spec: TableSpec, tol_m
             tried += 1
             if tried > MAX_HYPOTHESES:
                 break  # (the outer loop stops too, below)
-            try:
-                H = fit_homography(diamonds[diam_idx], dots[dot_idx])  # table -> image
-            except ValueError:
+            H = cv2.getPerspectiveTransform(
+                diamonds[diam_idx].astype(np.float32), dots[dot_idx].astype(np.float32)
+            )  # table -> image
+            if H is None or not np.all(np.isfinite(H)):
                 continue
             rect_px = apply_homography(H, table_rect)
             if not np.all(np.isfinite(rect_px)) or _signed_area(rect_px) >= 0:
@@ -420,6 +437,7 @@ def fit_table(
     spec: TableSpec | None = None,
     tol_px: float | None = None,
     focal_prior_px: float | None = None,
+    diamond_z: float | None = None,
 ) -> TableFit:
     """Fit the table from dot detections.
 
@@ -429,6 +447,7 @@ def fit_table(
         spec: the table (default 9-foot).
         tol_px: line inlier tolerance [px] (default: from the dot spacing and image size).
         focal_prior_px: prior focal length [px] for near-top views (default: the larger image side).
+        diamond_z: height of the diamond centres above the cloth [m] (default :func:`diamond_height`).
 
     Raises:
         TableFitError: too few dots, no consistent rails, or an implausible table.
@@ -453,7 +472,7 @@ def fit_table(
     if sum(len(x) >= 2 for x in lines) < 2:
         raise TableFitError("too few table points: diamonds on at least two rails are needed")
     index = label_dots(pts, lines, spec)
-    h = spec.cushion_height
+    h = diamond_height(spec) if diamond_z is None else float(diamond_z)
     m = index >= 0
     world = spec.diamonds[index[m]]
     image = pts[m]
@@ -470,15 +489,32 @@ def fit_table(
     H, mask = robust_homography(world_all, image_all, thresh)
     if mask.sum() < 4:
         raise TableFitError("no table found: the diamonds do not fit a table (homography failed)")
-    world3 = np.column_stack([world_all[mask], np.full(mask.sum(), h)])
-    camera = camera_from_homography(
-        H, image_size, z=h, world_points=world3, image_points=image_all[mask], focal_prior_px=focal_prior_px
-    )
-    proj = camera.project(world3)
-    err = np.linalg.norm(proj - image_all[mask], axis=1)
+    world3_all = np.column_stack([world_all, np.full(len(world_all), h)])
+    keep = mask.copy()
+    for _ in range(6):  # refit without the worst point while it is an outlier
+        camera = camera_from_homography(
+            H,
+            image_size,
+            z=h,
+            world_points=world3_all[keep],
+            image_points=image_all[keep],
+            focal_prior_px=focal_prior_px,
+        )
+        err_all = np.linalg.norm(camera.project(world3_all) - image_all, axis=1)
+        err_all = np.where(np.isfinite(err_all), err_all, np.inf)
+        limit = max(3.0, 3 * 1.4826 * float(np.median(err_all[keep])))
+        worst = int(np.argmax(np.where(keep, err_all, -1.0)))
+        if err_all[worst] <= limit or keep.sum() <= 5:
+            break
+        keep[worst] = False
+    err = err_all[keep]
     rms = float(np.sqrt(np.mean(err**2)))
     if not np.isfinite(rms) or rms > max(4.0, tol):
         raise TableFitError(f"no table found: the diamonds do not fit a {spec.name} table (error {rms:.1f} px)")
+    dot_rows = np.flatnonzero(m)
+    index = index.copy()
+    index[dot_rows[~keep[: len(dot_rows)]]] = -1
+    m = index >= 0
     n_matched = int(m.sum())
     if n_matched < max(MIN_DOTS, 0.5 * len(pts)):
         raise TableFitError(
@@ -487,6 +523,8 @@ def fit_table(
     if camera.position[2] < spec.cushion_height + 0.2:
         raise TableFitError("no table found: the fitted camera is not above the table")
     validate_corners(camera.project_table(rect, h), image_size)
+    if not 0.25 * max(image_size) < camera.focal_px < 6 * max(image_size):
+        raise TableFitError(f"no table found: implausible camera (focal length {camera.focal_px:.0f} px)")
 
     # the 180-degree convention: head rail further left / lower in the image than the foot rail
     head_mid = camera.project_table(np.array([0.0, spec.width / 2]), h)

@@ -177,42 +177,154 @@ def strike(i, angle, speed, side, height, elevation, vel, w, prm) -> None:
     w[i, 2] = k * (px * fy - py * fx)
 
 
+COLLIDE_BOUNCE, COLLIDE_LOCK, COLLIDE_NUDGE = 0, 1, 2
+NUDGE_GAP = 1e-7  # [m] gap a slow, pushing pair is set to so the next contact is a fresh crossing
+
+
 @njit(cache=True)
-def collide_balls(i, j, pos, vel, w, prm) -> None:
+def collide_balls(i, j, pos, vel, w, prm) -> int:
     """Frictionless instantaneous ball-ball impact with restitution (equal masses); spins are kept.
 
-    An impact slower than the settle speed is perfectly inelastic and also drops the spin component
-    that would make either ball slide back into the other.
+    Slow contacts (normal approach below the settle speed, e.g. one ball pushing another) are not
+    bounced: if the two balls barely move relative to each other the caller locks them together
+    (``COLLIDE_LOCK``, see ``lock_cluster``); otherwise the impact is perfectly inelastic, the spin that
+    drives either ball into the other is dropped and the pair is set ``NUDGE_GAP`` apart
+    (``COLLIDE_NUDGE``), so the event loop never spins at one instant.
+
+    Returns:
+        ``COLLIDE_BOUNCE``, ``COLLIDE_LOCK`` or ``COLLIDE_NUDGE``.
     """
     nx = pos[j, 0] - pos[i, 0]
     ny = pos[j, 1] - pos[i, 1]
     d = math.hypot(nx, ny)
     if d == 0.0:
-        return
+        return COLLIDE_BOUNCE
     nx /= d
     ny /= d
-    vrel = (vel[i, 0] - vel[j, 0]) * nx + (vel[i, 1] - vel[j, 1]) * ny
-    if vrel <= 0.0:
-        return
-    e = prm[P_E_BALL]
-    if vrel < prm[P_V_SETTLE]:
-        e = 0.0
-        _drop_normal_slip(i, nx, ny, w)
-        _drop_normal_slip(j, nx, ny, w)
-    jn = 0.5 * (1.0 + e) * vrel
-    vel[i, 0] -= jn * nx
-    vel[i, 1] -= jn * ny
-    vel[j, 0] += jn * nx
-    vel[j, 1] += jn * ny
+    dvx = vel[i, 0] - vel[j, 0]
+    dvy = vel[i, 1] - vel[j, 1]
+    vrel = dvx * nx + dvy * ny
+    settle = prm[P_V_SETTLE]
+    if vrel >= settle:
+        jn = 0.5 * (1.0 + prm[P_E_BALL]) * vrel
+        vel[i, 0] -= jn * nx
+        vel[i, 1] -= jn * ny
+        vel[j, 0] += jn * nx
+        vel[j, 1] += jn * ny
+        return COLLIDE_BOUNCE
+    if math.hypot(dvx, dvy) < settle:
+        return COLLIDE_LOCK
+    if vrel > 0.0:
+        jn = 0.5 * vrel
+        vel[i, 0] -= jn * nx
+        vel[i, 1] -= jn * ny
+        vel[j, 0] += jn * nx
+        vel[j, 1] += jn * ny
+    _drop_normal_slip(i, nx, ny, w)
+    _drop_normal_slip(j, nx, ny, w)
+    return COLLIDE_NUDGE
+
+
+@njit(cache=True)
+def nudge_apart(i, j, n, pos, st, prm) -> bool:
+    """Set a slow, pressing pair ``NUDGE_GAP`` apart along its line of centres.
+
+    Each ball moves half the way, unless that would bring it closer to a third ball it already nearly
+    touches (so repeated nudges never build up an overlap with neighbours).
+
+    Returns:
+        whether the pair is now apart (``False``: both balls are boxed in; the caller locks them).
+    """
+    D = 2.0 * prm[P_R]
+    nx = pos[j, 0] - pos[i, 0]
+    ny = pos[j, 1] - pos[i, 1]
+    d = math.hypot(nx, ny)
+    if d == 0.0:
+        return False
+    if d - D >= NUDGE_GAP:
+        return True
+    nx /= d
+    ny /= d
+    half = 0.5 * (NUDGE_GAP - (d - D))
+    moved = False
+    for b, sgn in ((i, -1.0), (j, 1.0)):
+        mx = pos[b, 0] + sgn * half * nx
+        my = pos[b, 1] + sgn * half * ny
+        ok = True
+        for k in range(n):
+            if k in (i, j) or st[k] == ST_POCKETED:
+                continue
+            new_gap = math.hypot(mx - pos[k, 0], my - pos[k, 1]) - D
+            if new_gap < NUDGE_GAP:
+                old_gap = math.hypot(pos[b, 0] - pos[k, 0], pos[b, 1] - pos[k, 1]) - D
+                if new_gap < old_gap:
+                    ok = False
+                    break
+        if ok:
+            pos[b, 0] = mx
+            pos[b, 1] = my
+            moved = True
+    return moved
+
+
+@njit(cache=True)
+def lock_cluster(i, j, n, pos, vel, w, st, prm, member) -> int:
+    """Make the touching, nearly co-moving balls around pair (i, j) move as one.
+
+    Collects every ball connected to ``i`` or ``j`` through contacts (gap below ``NUDGE_GAP``) whose
+    velocity differs from the pair's by less than the settle speed, and gives them all their mean
+    velocity and spin. Momentum is conserved and kinetic energy can only drop; afterwards the members
+    share one trajectory, so no further events occur between them.
+
+    Returns:
+        the number of members; ``member`` (bool, shape (n,)) marks them.
+    """
+    D = 2.0 * prm[P_R]
+    settle = prm[P_V_SETTLE]
+    for k in range(n):
+        member[k] = False
+    ref_x = 0.5 * (vel[i, 0] + vel[j, 0])
+    ref_y = 0.5 * (vel[i, 1] + vel[j, 1])
+    stack = [i, j]
+    member[i] = True
+    member[j] = True
+    count = 2
+    while len(stack) > 0:
+        a = stack.pop()
+        for b in range(n):
+            if member[b] or st[b] == ST_POCKETED:
+                continue
+            if math.hypot(pos[b, 0] - pos[a, 0], pos[b, 1] - pos[a, 1]) - D > NUDGE_GAP:
+                continue
+            if math.hypot(vel[b, 0] - ref_x, vel[b, 1] - ref_y) >= settle:
+                continue
+            member[b] = True
+            stack.append(b)
+            count += 1
+    sv0 = sv1 = sw0 = sw1 = sw2 = 0.0
+    for k in range(n):
+        if member[k]:
+            sv0 += vel[k, 0]
+            sv1 += vel[k, 1]
+            sw0 += w[k, 0]
+            sw1 += w[k, 1]
+            sw2 += w[k, 2]
+    for k in range(n):
+        if member[k]:
+            vel[k, 0] = sv0 / count
+            vel[k, 1] = sv1 / count
+            w[k, 0] = sw0 / count
+            w[k, 1] = sw1 / count
+            w[k, 2] = sw2 / count
+    return count
 
 
 @njit(cache=True, inline="always")
 def _drop_normal_slip(i, nx, ny, w) -> None:
-    """Remove the spin component whose contact-point slip points along ``n`` (rotation about ``z x n``)."""
-    tx, ty = -ny, nx
-    k = w[i, 0] * tx + w[i, 1] * ty
-    w[i, 0] -= k * tx
-    w[i, 1] -= k * ty
+    """Keep only the spin about ``n`` in the table plane: no contact-point slip along ``n`` remains."""
+    k = w[i, 0] * nx + w[i, 1] * ny
+    w[i, 0] = k * nx
+    w[i, 1] = k * ny
 
 
 @njit(cache=True)
@@ -229,12 +341,18 @@ def collide_cushion(i, nx, ny, vel, w, prm) -> None:
     """
     R = prm[P_R]
     vn = vel[i, 0] * nx + vel[i, 1] * ny
-    if vn >= 0.0:
-        return
     e = prm[P_E_CUSHION]
-    if -vn < prm[P_V_SETTLE]:
-        e = 0.0
+    settle = prm[P_V_SETTLE]
+    if vn > -settle:
+        # slow or pressing contact: no bounce, and no spin left that drives the ball into the cushion
         _drop_normal_slip(i, nx, ny, w)
+        if vn >= 0.0:
+            if vn < settle:  # resting against the cushion: move exactly along it
+                vt = -vel[i, 0] * ny + vel[i, 1] * nx
+                vel[i, 0] = -vt * ny
+                vel[i, 1] = vt * nx
+            return
+        e = 0.0
     jn = -(1.0 + e) * vn
     tx, ty = -ny, nx
     ut = vel[i, 0] * tx + vel[i, 1] * ty - R * w[i, 2]

@@ -13,8 +13,7 @@ from pix2pockets.physics.event._engine import (
     STATUS_NOT_FINITE,
     STATUS_OK,
     STATUS_TOO_MANY_EVENTS,
-    run_batch,
-    run_shot,
+    run_shots,
 )
 from pix2pockets.physics.event.params import PhysicsParams
 from pix2pockets.state import Event, EventType, Shot, ShotResult, TableLayout
@@ -147,22 +146,18 @@ class EventSimulator:
         if not isinstance(shot, Shot):
             raise ValueError(f"expected a Shot, got {type(shot).__name__}")
         stop_code = _STOP_CODES[StopAfter(stop)]
-        pos = np.array(layout.positions, dtype=float)
         cap = self.params.max_events + len(layout) + 1
         ev_t = np.empty(cap)
         ev_k = np.empty(cap, dtype=np.int64)
         ev_a = np.empty(cap, dtype=np.int64)
         ev_b = np.empty(cap, dtype=np.int64)
         ev_e = np.empty(cap)
-        pocket_of = np.empty(len(layout), dtype=np.int64)
-        nev, status, _first, _t = run_shot(
-            pos,
+        row = np.array([[shot.angle, shot.speed, shot.side, shot.height, shot.elevation]], dtype=float)
+        out = _Outputs(1, len(layout))
+        run_shots(
+            np.array(layout.positions, dtype=float),
             cue,
-            float(shot.angle),
-            float(shot.speed),
-            float(shot.side),
-            float(shot.height),
-            float(shot.elevation),
+            row,
             prm,
             geo,
             stop_code,
@@ -173,8 +168,9 @@ class EventSimulator:
             ev_a,
             ev_b,
             ev_e,
-            pocket_of,
+            *out.arrays,
         )
+        nev, status, pos = int(out.nev[0]), int(out.status[0]), out.pos[0]
         _check_status(status, self.params.max_events)
         events = [
             Event(float(ev_t[k]), _EVENT_TYPES[ev_k[k]], int(ev_a[k]), int(ev_b[k])) for k in range(min(nev, cap))
@@ -202,28 +198,42 @@ class EventSimulator:
         """
         cue, prm, geo = self._prepare(layout)
         arr = shots_to_array(shots)
-        m, n = len(arr), len(layout)
-        out_pos = np.empty((m, n, 2))
-        out_pocket = np.empty((m, n), dtype=np.int64)
-        out_first = np.empty(m, dtype=np.int64)
-        out_status = np.empty(m, dtype=np.int64)
-        out_nev = np.empty(m, dtype=np.int64)
-        pos0 = np.array(layout.positions, dtype=float)
-        run_batch(
-            pos0,
+        out = _Outputs(len(arr), len(layout))
+        dummy_f = np.zeros(1)
+        dummy_i = np.zeros(1, dtype=np.int64)
+        run_shots(
+            np.array(layout.positions, dtype=float),
             cue,
             arr,
             prm,
             geo,
             _STOP_CODES[StopAfter(stop)],
             self.params.max_events,
-            out_pos,
-            out_pocket,
-            out_first,
-            out_status,
-            out_nev,
+            False,
+            dummy_f,
+            dummy_i,
+            dummy_i,
+            dummy_i,
+            dummy_f,
+            *out.arrays,
         )
-        return BatchOutcome(out_first, out_pocket, out_pos, out_status, out_nev, cue)
+        return BatchOutcome(out.first, out.pocket, out.pos, out.status, out.nev, cue)
+
+
+class _Outputs:
+    """Output arrays of ``run_shots`` for ``m`` shots of ``n`` balls."""
+
+    def __init__(self, m: int, n: int) -> None:
+        self.pos = np.empty((m, n, 2))
+        self.pocket = np.empty((m, n), dtype=np.int64)
+        self.first = np.empty(m, dtype=np.int64)
+        self.status = np.empty(m, dtype=np.int64)
+        self.nev = np.empty(m, dtype=np.int64)
+        self.time = np.empty(m)
+
+    @property
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        return (self.pos, self.pocket, self.first, self.status, self.nev, self.time)
 
 
 def shots_to_array(shots: np.ndarray | Sequence[Shot]) -> np.ndarray:
