@@ -7,8 +7,8 @@ Usage:
     PYTHONPATH=src python scripts/web_screenshot.py --out docs/images/web-page.png
     PYTHONPATH=src python scripts/web_screenshot.py --standins --out shot.png   # no model needed
 
-``--standins`` serves a synthetic photo (``pix2pockets.synth``, seed 8) with a detector that returns its exact
-labels and the tests' nearest-pocket planner, for builds without the detector model or planner.
+``--standins`` serves the bundled example photo with a detector that returns its exact labels and the tests'
+nearest-pocket planner, for builds without the detector model or planner.
 """
 
 from __future__ import annotations
@@ -20,7 +20,6 @@ import os
 import shutil
 import subprocess
 import sys
-import tempfile
 import threading
 import time
 from pathlib import Path
@@ -129,23 +128,17 @@ def screenshot(app, out: str, binary: str, port: int, width: int, timeout: float
         server.should_exit = True
 
 
-def standin_app(tmp: Path):
-    import io
-
-    from PIL import Image
-
+def standin_app():
     sys.path.insert(0, str(ROOT))
     from tests.pipeline.standins import NearestPocketPlanner
     from tests.web.conftest import LabelsDetector
 
-    from pix2pockets.synth import render
+    from pix2pockets.cli.suggest_cmd import example_photo_path
     from pix2pockets.web.app import create_app
 
-    rend = render(8, (1280, 720), camera_kind="high")
-    buf = io.BytesIO()
-    Image.fromarray(rend.image).save(buf, format="PNG")
-    (tmp / "example.png").write_bytes(buf.getvalue())
-    return create_app(LabelsDetector(rend.labels), NearestPocketPlanner(), example_photo=tmp / "example.png")
+    photo = Path(example_photo_path())
+    labels = json.loads(photo.with_name(photo.stem + ".labels.json").read_text())
+    return create_app(LabelsDetector(labels), NearestPocketPlanner())
 
 
 def main() -> int:
@@ -157,16 +150,15 @@ def main() -> int:
     parser.add_argument("--width", type=int, default=1280)
     parser.add_argument("--timeout", type=float, default=180.0)
     args = parser.parse_args()
-    with tempfile.TemporaryDirectory() as tmp:
-        if args.standins:
-            app = standin_app(Path(tmp))
-        else:
-            from pix2pockets.pipeline.photo import default_detector
-            from pix2pockets.pipeline.planning import default_planner
-            from pix2pockets.web.app import create_app
+    if args.standins:
+        app = standin_app()
+    else:
+        from pix2pockets.pipeline.photo import default_detector
+        from pix2pockets.pipeline.planning import default_planner
+        from pix2pockets.web.app import create_app
 
-            app = create_app(default_detector(), default_planner())
-        print(screenshot(app, args.out, args.chromium, args.port, args.width, args.timeout))
+        app = create_app(default_detector(), default_planner())
+    print(screenshot(app, args.out, args.chromium, args.port, args.width, args.timeout))
     print(f"wrote {args.out}")
     return 0
 
