@@ -232,3 +232,23 @@ def test_unknown_routes_and_methods_answer_json(rendered):
 def test_bad_limits():
     with pytest.raises(ValueError, match="positive"):
         create_app(max_upload_bytes=0)
+
+
+def test_long_messages_are_one_short_line(rendered):
+    class Chatty:
+        def detect(self, image_rgb):
+            raise RuntimeError("line one\nline two " + "x" * 2000)
+
+    err = post(TestClient(create_app(Chatty(), NearestPocketPlanner())), rendered[0]).json()["error"]
+    assert err.startswith("internal error: RuntimeError: line one line two") and len(err) <= 500
+
+
+def test_unexpected_errors_outside_the_pipeline_answer_json(rendered, monkeypatch):
+    from pix2pockets.web import app as web_app
+
+    def broken(upload):
+        raise KeyError("oops")
+
+    monkeypatch.setattr(web_app, "_upload_name", broken)
+    r = post(TestClient(create_app(LabelsDetector(rendered[1])), raise_server_exceptions=False), rendered[0])
+    assert r.status_code == 500 and r.json() == {"error": "internal error: KeyError"}
