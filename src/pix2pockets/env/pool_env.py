@@ -243,7 +243,8 @@ class PoolEnv(gym.Env):
                 raise
             gym.logger.warn(f"shot simulation failed, episode truncated: {err}")
             self._shots += 1
-            info = {"outcome": "sim_error", "sim_error": str(err), "shots": self._shots, "won": False}
+            info = {"outcome": "sim_error", "sim_error": str(err), "shot_success": False, "won": False}
+            info["shots"] = self._shots
             return self._obs(), 0.0, False, True, info
         targets = tuple(self.targets(before))
         if self.setup is BallSetup.ONE:
