@@ -38,9 +38,11 @@ def test_check_env_gymnasium_and_sb3(env_id: str, action_type: str) -> None:
     env.close()
 
 
+@pytest.mark.parametrize("backend", sorted(BACKENDS))
 @pytest.mark.parametrize("balls", ["one", "two", "all"])
-def test_seeded_determinism(balls: str) -> None:
-    a, b = _env(balls, aim_noise_deg=0.5, speed_noise=0.1), _env(balls, aim_noise_deg=0.5, speed_noise=0.1)
+def test_seeded_determinism(balls: str, backend: str) -> None:
+    noise = {"aim_noise_deg": 0.5, "speed_noise": 0.1}
+    a, b = _env(balls, backend, **noise), _env(balls, backend, **noise)
     oa, _ = a.reset(seed=42)
     ob, _ = b.reset(seed=42)
     assert np.array_equal(oa, ob)
@@ -170,6 +172,12 @@ def test_unknown_reset_option() -> None:
         _env().reset(options={"layuot": None})
 
 
+def test_check_env_with_rendering() -> None:
+    env = gym.make("pix2pockets/TwoBall-v0", render_mode="rgb_array", render_width=300)
+    gym_check_env(env.unwrapped)
+    env.close()
+
+
 def test_render_rgb_array() -> None:
     env = _env("all", render_mode="rgb_array", render_width=400)
     env.reset(seed=0)
@@ -201,3 +209,28 @@ def test_custom_reward_fn() -> None:
     env.reset(seed=0, options={"layout": _straight_in_layout()})
     _, reward, *_ = env.step(_aim(env, (0.6, 0.6), (0.3, 0.3)))
     assert reward == 7.0
+
+
+class _FailingSim:
+    name = "failing"
+
+    def simulate(self, layout, shot, stop=None):
+        raise RuntimeError("shot exceeded 10 events")
+
+    def simulate_batch(self, layout, shots, stop=None):
+        return [self.simulate(layout, s) for s in shots]
+
+
+def test_simulation_failure_truncates_or_raises() -> None:
+    env = PoolEnv(balls="two", physics=_FailingSim())
+    obs, _ = env.reset(seed=0)
+    with pytest.warns(UserWarning, match="truncated"):
+        obs2, reward, terminated, truncated, info = env.step(np.array([0, 0]))
+    assert truncated and not terminated and reward == 0.0
+    assert "exceeded" in info["sim_error"] and np.array_equal(obs, obs2)
+    strict = PoolEnv(balls="two", physics=_FailingSim(), sim_errors="raise")
+    strict.reset(seed=0)
+    with pytest.raises(RuntimeError, match="exceeded"):
+        strict.step(np.array([0, 0]))
+    with pytest.raises(ValueError, match="sim_errors"):
+        PoolEnv(balls="two", physics=_FailingSim(), sim_errors="ignore")

@@ -25,6 +25,7 @@ from pix2pockets.physics.event.params import P_R
 
 CONTACT_TOL = 1e-9  # [m] distances within this of contact count as touching
 APPROACH_EPS = 1e-12  # [m/s] slower approaches do not count as an immediate impact
+PRESS_EPS = 1e-9  # [m/s^2] weaker accelerations into a contact do not count as pressing
 
 ENV_NONE, ENV_LINE, ENV_POINT, ENV_POCKET = 0, 1, 2, 3
 
@@ -62,9 +63,13 @@ def pair_time(i, j, now, pos, vel, acc, st, tend, prm) -> float:
         return INF
     c0 = (dist - D) * (dist + D)
     c1 = 2.0 * (rx * vx + ry * vy)
-    if dist - D <= CONTACT_TOL and c1 < -2.0 * D * APPROACH_EPS:
-        return now
     c2 = vx * vx + vy * vy + rx * ax + ry * ay
+    if dist - D <= CONTACT_TOL:
+        eps = 2.0 * D * APPROACH_EPS
+        if c1 < -eps:
+            return now  # touching and approaching
+        if h > 0.0 and c1 <= eps and c2 < -D * PRESS_EPS:
+            return now  # touching and about to press into each other (one pushes the other)
     c3 = vx * ax + vy * ay
     c4 = 0.25 * (ax * ax + ay * ay)
     return now + first_drop(c0, c1, c2, c3, c4, h)
@@ -99,7 +104,11 @@ def env_time(i, now, pos, vel, acc, tend, prm, seg_a, seg_u, seg_n, seg_len, pts
             continue
         c1 = side * (vx * nx + vy * ny)
         c2 = 0.5 * side * (ax * nx + ay * ny)
-        tau = 0.0 if f0 <= CONTACT_TOL and c1 < -APPROACH_EPS else first_drop(f0, c1, c2, 0.0, 0.0, h)
+        touching = f0 <= CONTACT_TOL
+        if touching and (c1 < -APPROACH_EPS or (h > 0.0 and c1 <= APPROACH_EPS and c2 < -0.5 * PRESS_EPS)):
+            tau = 0.0  # touching and approaching, or about to press into the cushion
+        else:
+            tau = first_drop(f0, c1, c2, 0.0, 0.0, h)
         if tau < best:
             qx = px + tau * (vx + 0.5 * tau * ax) - seg_a[k, 0]
             qy = py + tau * (vy + 0.5 * tau * ay) - seg_a[k, 1]

@@ -14,6 +14,8 @@ from numba import njit
 
 from pix2pockets.physics.event._detect import ENV_LINE, ENV_NONE, ENV_POCKET, env_time, pair_time
 from pix2pockets.physics.event._motion import (
+    COLLIDE_LOCK,
+    COLLIDE_NUDGE,
     INF,
     ST_POCKETED,
     ST_ROLLING,
@@ -24,6 +26,8 @@ from pix2pockets.physics.event._motion import (
     collide_balls,
     collide_cushion,
     kinetic_energy,
+    lock_cluster,
+    nudge_apart,
     set_motion,
     strike,
     transition,
@@ -39,7 +43,7 @@ N_CUSHIONS = 6  # the first 6 segments are cushion noses, the rest jaw faces
 _SURFACE_TOL = 1e-7  # [m] a resting centre further outside the surface than this has dropped
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _record(nev, record, ev_t, ev_k, ev_a, ev_b, ev_e, t, k, a, b, energy) -> int:
     if record and nev < ev_t.shape[0]:
         ev_t[nev] = t
@@ -117,6 +121,7 @@ def run_shot(
     ek = np.zeros(n, dtype=np.int64)
     ei = np.full(n, -1, dtype=np.int64)
     ptime = np.full((n, n), INF)
+    member = np.zeros(n, dtype=np.bool_)
     for i in range(n):
         pocket_of[i] = -1
 
@@ -156,11 +161,21 @@ def run_shot(
 
         c1 = bi
         c2 = -1
+        locked = False
         if kind == 0:
             c2 = bj
-            collide_balls(bi, bj, pos, vel, w, prm)
-            set_motion(bi, now, vel, w, st, acc, wacc, tend, prm)
-            set_motion(bj, now, vel, w, st, acc, wacc, tend, prm)
+            outcome = collide_balls(bi, bj, pos, vel, w, prm)
+            if outcome == COLLIDE_NUDGE and not nudge_apart(bi, bj, n, pos, st, prm):
+                outcome = COLLIDE_LOCK
+            if outcome == COLLIDE_LOCK:
+                locked = True
+                lock_cluster(bi, bj, n, pos, vel, w, st, prm, member)
+                for k in range(n):
+                    if member[k]:
+                        set_motion(k, now, vel, w, st, acc, wacc, tend, prm)
+            else:
+                set_motion(bi, now, vel, w, st, acc, wacc, tend, prm)
+                set_motion(bj, now, vel, w, st, acc, wacc, tend, prm)
             code, a, b = EV_BALL, bi, bj
             if first < 0 and (bi == cue or bj == cue):
                 first = bj if bi == cue else bi
@@ -208,9 +223,14 @@ def run_shot(
             break
         if stopped:
             break
-        _refresh(c1, n, now, pos, vel, acc, st, tend, prm, geo, ptime, et, ek, ei)
-        if c2 >= 0:
-            _refresh(c2, n, now, pos, vel, acc, st, tend, prm, geo, ptime, et, ek, ei)
+        if locked:
+            for k in range(n):
+                if member[k]:
+                    _refresh(k, n, now, pos, vel, acc, st, tend, prm, geo, ptime, et, ek, ei)
+        else:
+            _refresh(c1, n, now, pos, vel, acc, st, tend, prm, geo, ptime, et, ek, ei)
+            if c2 >= 0:
+                _refresh(c2, n, now, pos, vel, acc, st, tend, prm, geo, ptime, et, ek, ei)
 
     # A ball resting beyond a cushion-nose line can only be in a pocket mouth: it drops.
     L, W = size[0], size[1]
@@ -238,23 +258,43 @@ def run_shot(
 
 
 @njit(cache=True)
-def run_batch(pos0, cue, shots, prm, geo, stop_mode, max_events, out_pos, out_pocket, out_first, out_status, out_nev):
-    """Simulate many shots from one layout without recording events (the planner's hot path).
+def run_shots(
+    pos0,
+    cue,
+    shots,
+    prm,
+    geo,
+    stop_mode,
+    max_events,
+    record,
+    ev_t,
+    ev_k,
+    ev_a,
+    ev_b,
+    ev_e,
+    out_pos,
+    out_pocket,
+    out_first,
+    out_status,
+    out_nev,
+    out_time,
+):
+    """Simulate shots from one layout: the single compiled entry point (one JIT compile for all uses).
 
     Args:
         pos0: starting centres [m], shape (n, 2).
         shots: one stroke per row: angle, speed, side, height, elevation; shape (m, 5).
+        record: store the events of the (single) shot in ``ev_*`` (time, code, ball, other, energy
+            after); with ``record`` pass ``m == 1``.
         out_pos: final centres, shape (m, n, 2); out_pocket: pocket per ball or -1, shape (m, n);
-        out_first: cue ball's first contact or -1, shape (m,); out_status / out_nev: status and event
-        count per shot, shape (m,).
+        out_first: cue ball's first contact or -1, shape (m,); out_status / out_nev / out_time: status,
+        event count and end time [s] per shot, shape (m,).
     """
-    dummy_f = np.zeros(1)
-    dummy_i = np.zeros(1, dtype=np.int64)
     pos = np.empty_like(pos0)
     pocket_of = np.empty(pos0.shape[0], dtype=np.int64)
     for m in range(shots.shape[0]):
         pos[:, :] = pos0
-        nev, status, first, _t = run_shot(
+        nev, status, first, t_end = run_shot(
             pos,
             cue,
             shots[m, 0],
@@ -266,12 +306,12 @@ def run_batch(pos0, cue, shots, prm, geo, stop_mode, max_events, out_pos, out_po
             geo,
             stop_mode,
             max_events,
-            False,
-            dummy_f,
-            dummy_i,
-            dummy_i,
-            dummy_i,
-            dummy_f,
+            record,
+            ev_t,
+            ev_k,
+            ev_a,
+            ev_b,
+            ev_e,
             pocket_of,
         )
         out_pos[m] = pos
@@ -279,3 +319,4 @@ def run_batch(pos0, cue, shots, prm, geo, stop_mode, max_events, out_pos, out_po
         out_first[m] = first
         out_status[m] = status
         out_nev[m] = nev
+        out_time[m] = t_end

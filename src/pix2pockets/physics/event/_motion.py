@@ -23,6 +23,7 @@ import math
 from numba import njit
 
 from pix2pockets.physics.event.params import (
+    P_CUSHION_SIN,
     P_E_BALL,
     P_E_CUSHION,
     P_G,
@@ -177,73 +178,212 @@ def strike(i, angle, speed, side, height, elevation, vel, w, prm) -> None:
     w[i, 2] = k * (px * fy - py * fx)
 
 
+COLLIDE_BOUNCE, COLLIDE_LOCK, COLLIDE_NUDGE = 0, 1, 2
+NUDGE_GAP = 1e-7  # [m] gap a slow, pushing pair is set to so the next contact is a fresh crossing
+
+
 @njit(cache=True)
-def collide_balls(i, j, pos, vel, w, prm) -> None:
+def collide_balls(i, j, pos, vel, w, prm) -> int:
     """Frictionless instantaneous ball-ball impact with restitution (equal masses); spins are kept.
 
-    An impact slower than the settle speed is perfectly inelastic and also drops the spin component
-    that would make either ball slide back into the other.
+    Slow contacts (normal approach below the settle speed, e.g. one ball pushing another) are not
+    bounced: if the two balls barely move relative to each other the caller locks them together
+    (``COLLIDE_LOCK``, see ``lock_cluster``); otherwise the impact is perfectly inelastic, the spin that
+    drives either ball into the other is dropped and the pair is set ``NUDGE_GAP`` apart
+    (``COLLIDE_NUDGE``), so the event loop never spins at one instant.
+
+    Returns:
+        ``COLLIDE_BOUNCE``, ``COLLIDE_LOCK`` or ``COLLIDE_NUDGE``.
     """
     nx = pos[j, 0] - pos[i, 0]
     ny = pos[j, 1] - pos[i, 1]
     d = math.hypot(nx, ny)
     if d == 0.0:
-        return
+        return COLLIDE_BOUNCE
     nx /= d
     ny /= d
-    vrel = (vel[i, 0] - vel[j, 0]) * nx + (vel[i, 1] - vel[j, 1]) * ny
-    if vrel <= 0.0:
-        return
-    e = prm[P_E_BALL]
-    if vrel < prm[P_V_SETTLE]:
-        e = 0.0
-        _drop_normal_slip(i, nx, ny, w)
-        _drop_normal_slip(j, nx, ny, w)
-    jn = 0.5 * (1.0 + e) * vrel
-    vel[i, 0] -= jn * nx
-    vel[i, 1] -= jn * ny
-    vel[j, 0] += jn * nx
-    vel[j, 1] += jn * ny
+    dvx = vel[i, 0] - vel[j, 0]
+    dvy = vel[i, 1] - vel[j, 1]
+    vrel = dvx * nx + dvy * ny
+    settle = prm[P_V_SETTLE]
+    if vrel >= settle:
+        jn = 0.5 * (1.0 + prm[P_E_BALL]) * vrel
+        vel[i, 0] -= jn * nx
+        vel[i, 1] -= jn * ny
+        vel[j, 0] += jn * nx
+        vel[j, 1] += jn * ny
+        return COLLIDE_BOUNCE
+    if math.hypot(dvx, dvy) < settle:
+        return COLLIDE_LOCK
+    if vrel > 0.0:
+        jn = 0.5 * vrel
+        vel[i, 0] -= jn * nx
+        vel[i, 1] -= jn * ny
+        vel[j, 0] += jn * nx
+        vel[j, 1] += jn * ny
+    _drop_normal_slip(i, nx, ny, w)
+    _drop_normal_slip(j, nx, ny, w)
+    return COLLIDE_NUDGE
+
+
+@njit(cache=True)
+def nudge_apart(i, j, n, pos, st, prm) -> bool:
+    """Set a slow, pressing pair ``NUDGE_GAP`` apart along its line of centres.
+
+    Each ball moves half the way, unless that would bring it closer to a third ball it already nearly
+    touches (so repeated nudges never build up an overlap with neighbours).
+
+    Returns:
+        whether the pair is now apart (``False``: both balls are boxed in; the caller locks them).
+    """
+    D = 2.0 * prm[P_R]
+    nx = pos[j, 0] - pos[i, 0]
+    ny = pos[j, 1] - pos[i, 1]
+    d = math.hypot(nx, ny)
+    if d == 0.0:
+        return False
+    if d - D >= NUDGE_GAP:
+        return True
+    nx /= d
+    ny /= d
+    half = 0.5 * (NUDGE_GAP - (d - D))
+    moved = False
+    for b, sgn in ((i, -1.0), (j, 1.0)):
+        mx = pos[b, 0] + sgn * half * nx
+        my = pos[b, 1] + sgn * half * ny
+        ok = True
+        for k in range(n):
+            if k in (i, j) or st[k] == ST_POCKETED:
+                continue
+            new_gap = math.hypot(mx - pos[k, 0], my - pos[k, 1]) - D
+            if new_gap < NUDGE_GAP:
+                old_gap = math.hypot(pos[b, 0] - pos[k, 0], pos[b, 1] - pos[k, 1]) - D
+                if new_gap < old_gap:
+                    ok = False
+                    break
+        if ok:
+            pos[b, 0] = mx
+            pos[b, 1] = my
+            moved = True
+    return moved
+
+
+@njit(cache=True)
+def lock_cluster(i, j, n, pos, vel, w, st, prm, member) -> int:
+    """Make the touching, nearly co-moving balls around pair (i, j) move as one.
+
+    Collects every ball connected to ``i`` or ``j`` through contacts (gap below ``NUDGE_GAP``) whose
+    velocity differs from the pair's by less than the settle speed, and gives them all their mean
+    velocity and spin. Momentum is conserved and kinetic energy can only drop; afterwards the members
+    share one trajectory, so no further events occur between them.
+
+    Returns:
+        the number of members; ``member`` (bool, shape (n,)) marks them.
+    """
+    D = 2.0 * prm[P_R]
+    settle = prm[P_V_SETTLE]
+    for k in range(n):
+        member[k] = False
+    ref_x = 0.5 * (vel[i, 0] + vel[j, 0])
+    ref_y = 0.5 * (vel[i, 1] + vel[j, 1])
+    stack = [i, j]
+    member[i] = True
+    member[j] = True
+    count = 2
+    while len(stack) > 0:
+        a = stack.pop()
+        for b in range(n):
+            if member[b] or st[b] == ST_POCKETED:
+                continue
+            if math.hypot(pos[b, 0] - pos[a, 0], pos[b, 1] - pos[a, 1]) - D > NUDGE_GAP:
+                continue
+            if math.hypot(vel[b, 0] - ref_x, vel[b, 1] - ref_y) >= settle:
+                continue
+            member[b] = True
+            stack.append(b)
+            count += 1
+    sv0 = sv1 = sw0 = sw1 = sw2 = 0.0
+    for k in range(n):
+        if member[k]:
+            sv0 += vel[k, 0]
+            sv1 += vel[k, 1]
+            sw0 += w[k, 0]
+            sw1 += w[k, 1]
+            sw2 += w[k, 2]
+    for k in range(n):
+        if member[k]:
+            vel[k, 0] = sv0 / count
+            vel[k, 1] = sv1 / count
+            w[k, 0] = sw0 / count
+            w[k, 1] = sw1 / count
+            w[k, 2] = sw2 / count
+    return count
 
 
 @njit(cache=True, inline="always")
 def _drop_normal_slip(i, nx, ny, w) -> None:
-    """Remove the spin component whose contact-point slip points along ``n`` (rotation about ``z x n``)."""
-    tx, ty = -ny, nx
-    k = w[i, 0] * tx + w[i, 1] * ty
-    w[i, 0] -= k * tx
-    w[i, 1] -= k * ty
+    """Keep only the spin about ``n`` in the table plane: no contact-point slip along ``n`` remains."""
+    k = w[i, 0] * nx + w[i, 1] * ny
+    w[i, 0] = k * nx
+    w[i, 1] = k * ny
 
 
 @njit(cache=True)
 def collide_cushion(i, nx, ny, vel, w, prm) -> None:
-    """Ball ``i`` hits a cushion (or jaw) whose unit normal ``n`` points toward the ball centre.
+    """Ball ``i`` hits a cushion (or jaw) whose unit normal ``n`` (in the plane) points toward the ball.
 
-    Normal: restitution ``e_cushion``. Tangential: Coulomb friction at the contact point (at the ball's
-    equator), capped at the impulse that stops the slip, which couples the tangential speed with the
-    side spin ``w_z``. The cushion's height above the equator is neglected.
+    The cushion nose touches the ball above its equator, so the contact normal ``N`` tilts down by
+    ``asin((h - R) / R)``. At the contact point an instantaneous impulse acts: along ``N`` with
+    restitution ``e_cushion``, and Coulomb friction ``mu_cushion`` against the contact-point slip, capped
+    at the impulse that stops the slip. This couples speed with all three spin components (running
+    English, topspin and draw off the rail). The table absorbs the vertical part of the impulse.
+
+    Impacts slower than the settle speed are not bounced: the normal velocity is removed along with the
+    spin that would drive the ball back into the cushion.
 
     References:
-        Mathavan et al., "A theoretical analysis of billiard ball dynamics under cushion impacts",
-        Proc. IMechE C 224 (2010) (full model; this is its planar, equator-contact simplification).
+        Rigid-body impulse of a sphere on a half-space with Coulomb friction (e.g. Mathavan et al.,
+        "A theoretical analysis of billiard ball dynamics under cushion impacts", Proc. IMechE C 224,
+        2010, sec. 2; pooltool's ``impulse_frictional_inelastic`` cushion model uses the same law).
     """
     R = prm[P_R]
     vn = vel[i, 0] * nx + vel[i, 1] * ny
-    if vn >= 0.0:
-        return
-    e = prm[P_E_CUSHION]
-    if -vn < prm[P_V_SETTLE]:
-        e = 0.0
+    settle = prm[P_V_SETTLE]
+    if vn > -settle:
+        # slow or pressing contact: no bounce, and no spin left that drives the ball into the cushion
         _drop_normal_slip(i, nx, ny, w)
-    jn = -(1.0 + e) * vn
-    tx, ty = -ny, nx
-    ut = vel[i, 0] * tx + vel[i, 1] * ty - R * w[i, 2]
-    jt = min(prm[P_MU_CUSHION] * jn, abs(ut) * 2.0 / 7.0)
-    if ut > 0.0:
-        jt = -jt
-    vel[i, 0] += jn * nx + jt * tx
-    vel[i, 1] += jn * ny + jt * ty
-    w[i, 2] -= 2.5 * jt / R
+        vt = -vel[i, 0] * ny + vel[i, 1] * nx
+        if vn < settle:  # stop the normal motion exactly: the ball then runs along the cushion
+            vel[i, 0] = -vt * ny
+            vel[i, 1] = vt * nx
+        return
+    s = prm[P_CUSHION_SIN]
+    c = math.sqrt(1.0 - s * s)
+    # contact point relative to the centre, and the unit normal from it to the centre
+    rx, ry, rz = -R * c * nx, -R * c * ny, R * s
+    Nx, Ny, Nz = c * nx, c * ny, -s
+    wx, wy, wz = w[i, 0], w[i, 1], w[i, 2]
+    ux = vel[i, 0] + (wy * rz - wz * ry)
+    uy = vel[i, 1] + (wz * rx - wx * rz)
+    uz = wx * ry - wy * rx
+    un = ux * Nx + uy * Ny + uz * Nz
+    if un >= 0.0:
+        return
+    jn = -(1.0 + prm[P_E_CUSHION]) * un
+    tx, ty, tz = ux - un * Nx, uy - un * Ny, uz - un * Nz
+    slip = math.sqrt(tx * tx + ty * ty + tz * tz)
+    jx, jy, jz = jn * Nx, jn * Ny, jn * Nz
+    if slip > 0.0:
+        jt = min(prm[P_MU_CUSHION] * jn, slip * 2.0 / 7.0)
+        jx -= jt * tx / slip
+        jy -= jt * ty / slip
+        jz -= jt * tz / slip
+    vel[i, 0] += jx
+    vel[i, 1] += jy
+    k = 2.5 / (R * R)  # m / I
+    w[i, 0] += k * (ry * jz - rz * jy)
+    w[i, 1] += k * (rz * jx - rx * jz)
+    w[i, 2] += k * (rx * jy - ry * jx)
 
 
 @njit(cache=True)

@@ -13,8 +13,7 @@ from pix2pockets.physics.event._engine import (
     STATUS_NOT_FINITE,
     STATUS_OK,
     STATUS_TOO_MANY_EVENTS,
-    run_batch,
-    run_shot,
+    run_shots,
 )
 from pix2pockets.physics.event.params import PhysicsParams
 from pix2pockets.state import Event, EventType, Shot, ShotResult, TableLayout
@@ -31,6 +30,7 @@ _EVENT_TYPES = (
     EventType.ROLLING_TO_STATIONARY,
 )
 _STOP_CODES = {StopAfter.REST: 0, StopAfter.FIRST_CONTACT: 1, StopAfter.FIRST_POCKET: 2}
+_FIRST_CAPACITY = 512  # event buffer size tried first [events]
 
 
 def pack_table(spec: TableSpec) -> tuple[np.ndarray, ...]:
@@ -126,7 +126,7 @@ class EventSimulator:
         spec = layout.spec
         cached = self._geo_cache.get(spec)
         if cached is None:
-            cached = (pack_table(spec), self.params.packed(spec.ball_radius))
+            cached = (pack_table(spec), self.params.packed(spec.ball_radius, spec.cushion_height))
             self._geo_cache[spec] = cached
         return cue, cached[1], cached[0]
 
@@ -147,39 +147,38 @@ class EventSimulator:
         if not isinstance(shot, Shot):
             raise ValueError(f"expected a Shot, got {type(shot).__name__}")
         stop_code = _STOP_CODES[StopAfter(stop)]
-        pos = np.array(layout.positions, dtype=float)
-        cap = self.params.max_events + len(layout) + 1
-        ev_t = np.empty(cap)
-        ev_k = np.empty(cap, dtype=np.int64)
-        ev_a = np.empty(cap, dtype=np.int64)
-        ev_b = np.empty(cap, dtype=np.int64)
-        ev_e = np.empty(cap)
-        pocket_of = np.empty(len(layout), dtype=np.int64)
-        nev, status, _first, _t = run_shot(
-            pos,
-            cue,
-            float(shot.angle),
-            float(shot.speed),
-            float(shot.side),
-            float(shot.height),
-            float(shot.elevation),
-            prm,
-            geo,
-            stop_code,
-            self.params.max_events,
-            True,
-            ev_t,
-            ev_k,
-            ev_a,
-            ev_b,
-            ev_e,
-            pocket_of,
-        )
+        row = np.array([[shot.angle, shot.speed, shot.side, shot.height, shot.elevation]], dtype=float)
+        pos0 = np.array(layout.positions, dtype=float)
+        cap = _FIRST_CAPACITY
+        while True:  # small event buffers first; rerun with room for the whole budget if they overflow
+            ev_t, ev_e = np.empty(cap), np.empty(cap)
+            ev_k, ev_a, ev_b = (np.empty(cap, dtype=np.int64) for _ in range(3))
+            out = _Outputs(1, len(layout))
+            run_shots(
+                pos0,
+                cue,
+                row,
+                prm,
+                geo,
+                stop_code,
+                self.params.max_events,
+                True,
+                ev_t,
+                ev_k,
+                ev_a,
+                ev_b,
+                ev_e,
+                *out.arrays,
+            )
+            if out.nev[0] <= cap:
+                break
+            cap = self.params.max_events + len(layout) + 1
+        nev, status, pos = int(out.nev[0]), int(out.status[0]), out.pos[0]
         _check_status(status, self.params.max_events)
-        events = [
-            Event(float(ev_t[k]), _EVENT_TYPES[ev_k[k]], int(ev_a[k]), int(ev_b[k])) for k in range(min(nev, cap))
-        ]
-        return ShotResult.from_events(layout, events, pos), ev_e[: min(nev, cap)].copy()
+        nev = min(nev, cap)
+        columns = (ev_t[:nev].tolist(), ev_k[:nev].tolist(), ev_a[:nev].tolist(), ev_b[:nev].tolist())
+        events = [Event(t, _EVENT_TYPES[k], a, b) for t, k, a, b in zip(*columns, strict=True)]
+        return ShotResult.from_events(layout, events, pos), ev_e[:nev].copy()
 
     def simulate_batch(
         self, layout: TableLayout, shots: Sequence[Shot], stop: StopAfter = StopAfter.REST
@@ -202,28 +201,42 @@ class EventSimulator:
         """
         cue, prm, geo = self._prepare(layout)
         arr = shots_to_array(shots)
-        m, n = len(arr), len(layout)
-        out_pos = np.empty((m, n, 2))
-        out_pocket = np.empty((m, n), dtype=np.int64)
-        out_first = np.empty(m, dtype=np.int64)
-        out_status = np.empty(m, dtype=np.int64)
-        out_nev = np.empty(m, dtype=np.int64)
-        pos0 = np.array(layout.positions, dtype=float)
-        run_batch(
-            pos0,
+        out = _Outputs(len(arr), len(layout))
+        dummy_f = np.zeros(1)
+        dummy_i = np.zeros(1, dtype=np.int64)
+        run_shots(
+            np.array(layout.positions, dtype=float),
             cue,
             arr,
             prm,
             geo,
             _STOP_CODES[StopAfter(stop)],
             self.params.max_events,
-            out_pos,
-            out_pocket,
-            out_first,
-            out_status,
-            out_nev,
+            False,
+            dummy_f,
+            dummy_i,
+            dummy_i,
+            dummy_i,
+            dummy_f,
+            *out.arrays,
         )
-        return BatchOutcome(out_first, out_pocket, out_pos, out_status, out_nev, cue)
+        return BatchOutcome(out.first, out.pocket, out.pos, out.status, out.nev, cue)
+
+
+class _Outputs:
+    """Output arrays of ``run_shots`` for ``m`` shots of ``n`` balls."""
+
+    def __init__(self, m: int, n: int) -> None:
+        self.pos = np.empty((m, n, 2))
+        self.pocket = np.empty((m, n), dtype=np.int64)
+        self.first = np.empty(m, dtype=np.int64)
+        self.status = np.empty(m, dtype=np.int64)
+        self.nev = np.empty(m, dtype=np.int64)
+        self.time = np.empty(m)
+
+    @property
+    def arrays(self) -> tuple[np.ndarray, ...]:
+        return (self.pos, self.pocket, self.first, self.status, self.nev, self.time)
 
 
 def shots_to_array(shots: np.ndarray | Sequence[Shot]) -> np.ndarray:
