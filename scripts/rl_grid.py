@@ -92,11 +92,9 @@ def model_steps(path: Path) -> int:
 
 
 def agent_file(run_dir: Path) -> Path | None:
-    """The run's final agent, else its latest checkpoint (a run cut short), else ``None``."""
-    for name in ("model.zip", "checkpoint.zip"):
-        if (run_dir / name).exists():
-            return run_dir / name
-    return None
+    """The run's agent with the most steps: ``model.zip``, or ``checkpoint.zip`` of a run cut short."""
+    files = [run_dir / name for name in ("model.zip", "checkpoint.zip") if (run_dir / name).exists()]
+    return max(files, key=model_steps) if files else None
 
 
 def do_train(args: argparse.Namespace) -> None:
