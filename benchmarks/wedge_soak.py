@@ -7,7 +7,8 @@ Layouts: a ball frozen to a cushion with another ball frozen to it (the cue ball
 balls in the jaws of a pocket, three-ball clusters against a rail, a ball in a corner. Each layout is
 struck ``--shots`` times at random speeds (log-uniform 0.01-11.5 m/s), angles (mostly into the wedge),
 tip offsets and elevations. Checks every outcome: status OK, no overlap beyond 1 micrometre, every
-resting ball on the playing surface. Prints counts and the worst cases (with exact repro).
+resting ball on the playing surface, every pocketed ball
+dropped at its pocket (not pushed through a rail). Prints counts and the worst cases (with exact repro).
 """
 
 from __future__ import annotations
@@ -103,7 +104,7 @@ def make_layout(rng: np.random.Generator, kind: int) -> tuple[list[np.ndarray], 
 def run(layouts: int, shots: int, seed: int) -> dict:
     sim = EventSimulator()
     rng = np.random.default_rng(seed)
-    counts = {"shots": 0, "budget": 0, "overlap": 0, "off_table": 0, "not_finite": 0}
+    counts = {"shots": 0, "budget": 0, "overlap": 0, "off_table": 0, "not_finite": 0, "through_cushion": 0}
     max_nev = 0
     worst: list[dict] = []
     done = 0
@@ -135,7 +136,14 @@ def run(layouts: int, shots: int, seed: int) -> dict:
             else:
                 on = out.pocket[s] < 0
                 fp = out.final_positions[s][on]
-                if len(fp) and not np.all(SPEC.contains(fp, margin=R - TOL)):
+                far = [
+                    np.linalg.norm(out.final_positions[s][b] - SPEC.pockets[out.pocket[s][b]].centre)
+                    > SPEC.pockets[out.pocket[s][b]].capture_radius + 2 * R
+                    for b in np.nonzero(~on)[0]
+                ]
+                if any(far):
+                    problem = "through_cushion"
+                elif len(fp) and not np.all(SPEC.contains(fp, margin=R - TOL)):
                     problem = "off_table"
                 elif len(fp) > 1:
                     dd = np.linalg.norm(fp[:, None] - fp[None], axis=-1) + np.eye(len(fp)) * 9

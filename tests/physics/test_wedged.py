@@ -30,7 +30,11 @@ def tight() -> EventSimulator:
 
 
 def _check(sim: EventSimulator, layout: TableLayout, shot: Shot) -> None:
-    """Settles within the budget, energy never rises, no overlap, nothing through a cushion."""
+    """Settles within the budget, energy never rises, no overlap, nothing through a cushion.
+
+    A ball pushed past a cushion-nose line would end "pocketed" mid-rail (the end-of-shot drop rule),
+    so every pocketed ball must have dropped at its pocket.
+    """
     result, energy = sim.simulate_traced(layout, shot)
     assert np.all(np.diff(energy) <= 1e-12 * max(energy[0], 1e-9))
     pos = result.final.positions
@@ -41,6 +45,9 @@ def _check(sim: EventSimulator, layout: TableLayout, shot: Shot) -> None:
     out = sim.simulate_arrays(layout, [shot])
     assert out.status[0] == 0
     assert np.allclose(out.final_positions[0][out.pocket[0] < 0], pos)
+    for ball in np.nonzero(out.pocket[0] >= 0)[0]:  # dropped in a pocket, not pushed through a rail
+        pocket = SPEC.pockets[out.pocket[0][ball]]
+        assert np.linalg.norm(out.final_positions[0][ball] - pocket.centre) < pocket.capture_radius + 2 * R
 
 
 def test_env_soak_pinned_ball_shot_settles(tight):
@@ -97,3 +104,22 @@ def test_ball_in_the_jaws_pressed_by_another(tight, speed):
     layout = layout_of(tuple(pusher + 0.3 * inward), tuple(jawed), tuple(pusher))
     angle = math.atan2(-inward[1], -inward[0])
     _check(tight, layout, Shot(angle, speed, 0.0, 0.4))
+
+
+# Found by benchmarks/wedge_soak.py (seed 1): slow strokes into a ball frozen to a rail; repeated
+# nudges of the pressing pair pushed the pinned ball through the cushion, which then "dropped" mid-rail.
+THROUGH_THE_RAIL = [
+    (
+        (2.4544751921261265, 0.40784407051511423),
+        (2.511425, 0.4030647522448052),
+        (-1.7103, 0.0321, -0.4285, 0.0427, 0.7637),
+    ),
+    ((1.0099377844582613, 1.2060476495884949), (1.0548216966970756, 1.241425), (2.2070, 0.0140, -0.3112, -0.1921, 0.0)),
+    ((0.07345394960150442, 0.7785644542501567), (0.028575, 0.813948099945105), (0.9276, 0.0344, 0.2100, -0.2416, 0.0)),
+    ((1.630300154828819, 1.188969381729826), (1.6076168876061772, 1.241425), (0.4748, 0.0106, -0.1643, 0.2628, 0.0)),
+]
+
+
+@pytest.mark.parametrize(("cue", "pinned", "stroke"), THROUGH_THE_RAIL)
+def test_pressing_nudges_never_push_a_pinned_ball_through_the_rail(tight, cue, pinned, stroke):
+    _check(tight, layout_of(cue, pinned), Shot(*stroke))
