@@ -7,8 +7,9 @@ Layouts: a ball frozen to a cushion with another ball frozen to it (the cue ball
 balls in the jaws of a pocket, three-ball clusters against a rail, a ball in a corner. Each layout is
 struck ``--shots`` times at random speeds (log-uniform 0.01-11.5 m/s), angles (mostly into the wedge),
 tip offsets and elevations. Checks every outcome: status OK, no overlap beyond 1 micrometre, every
-resting ball on the playing surface, every pocketed ball
-dropped at its pocket (not pushed through a rail). Prints counts and the worst cases (with exact repro).
+resting ball on the playing surface and clear of every cushion-nose and jaw segment, every pocketed
+ball dropped at its pocket (not pushed through a rail). Prints counts and the first failures (exact
+repro).
 """
 
 from __future__ import annotations
@@ -101,10 +102,30 @@ def make_layout(rng: np.random.Generator, kind: int) -> tuple[list[np.ndarray], 
     return [c, b, base], 1
 
 
+SEGMENTS = np.concatenate([SPEC.cushion_segments, SPEC.jaw_segments]).astype(float)  # (18, 2, 2)
+
+
+def segment_clearance(centres: np.ndarray) -> float:
+    """Smallest distance from any centre to any cushion-nose or jaw segment [m] (R when touching)."""
+    a, b = SEGMENTS[:, 0], SEGMENTS[:, 1]
+    d = b - a
+    t = np.clip(np.einsum("ksd,kd->ks", centres[None] - a[:, None], d) / np.einsum("kd,kd->k", d, d)[:, None], 0, 1)
+    near = a[:, None] + t[..., None] * d[:, None]
+    return float(np.linalg.norm(centres[None] - near, axis=-1).min())
+
+
 def run(layouts: int, shots: int, seed: int) -> dict:
     sim = EventSimulator()
     rng = np.random.default_rng(seed)
-    counts = {"shots": 0, "budget": 0, "overlap": 0, "off_table": 0, "not_finite": 0, "through_cushion": 0}
+    counts = {
+        "shots": 0,
+        "budget": 0,
+        "overlap": 0,
+        "off_table": 0,
+        "not_finite": 0,
+        "through_cushion": 0,
+        "into_jaw": 0,
+    }
     max_nev = 0
     worst: list[dict] = []
     done = 0
@@ -145,6 +166,8 @@ def run(layouts: int, shots: int, seed: int) -> dict:
                     problem = "through_cushion"
                 elif len(fp) and not np.all(SPEC.contains(fp, margin=R - TOL)):
                     problem = "off_table"
+                elif len(fp) and segment_clearance(fp) < R - TOL:
+                    problem = "into_jaw"
                 elif len(fp) > 1:
                     dd = np.linalg.norm(fp[:, None] - fp[None], axis=-1) + np.eye(len(fp)) * 9
                     if dd.min() < 2 * R - TOL:
