@@ -2,7 +2,7 @@
 
 Uses the real detector (bundled ONNX model) and the default planner when they are present in this build;
 otherwise the missing part is replaced by the test stand-ins (exact labels / a nearest-pocket planner) and
-the table says so. The photo is the bundled example when present, else a blank 1280x720 frame.
+the table says so. The photo is the bundled example (1280x720) unless ``--image`` is given.
 
 Usage:
     PYTHONPATH=src:. python benchmarks/pipeline.py --json OUT.json [--runs 5] [--image PHOTO]
@@ -35,7 +35,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--json", help="write results here")
     args = parser.parse_args(argv)
 
-    from tests.pipeline.standins import LabelDetector, NearestPocketPlanner, blank_image, camera, example_layout
+    from tests.pipeline.standins import ExampleLabelsDetector, NearestPocketPlanner
 
     notes = []
     t = time.perf_counter()
@@ -44,9 +44,8 @@ def main(argv: list[str] | None = None) -> int:
         cold = time.perf_counter() - t
         det_name = "onnx"
     except ValueError as err:
-        cam = camera("45")
-        detector, cold, det_name = LabelDetector(cam, example_layout()), None, "labels stand-in"
-        notes.append(f"detector missing ({err}); exact labels used")
+        detector, cold, det_name = ExampleLabelsDetector(), None, "exact-labels stand-in"
+        notes.append(f"detector missing ({err}); the example photo's exact labels used")
     try:
         planner = photo.default_planner()
         plan_name = type(planner).__name__
@@ -54,14 +53,11 @@ def main(argv: list[str] | None = None) -> int:
         planner, plan_name = NearestPocketPlanner(), "nearest-pocket stand-in"
         notes.append(f"planner missing ({err}); stand-in used")
 
-    path = args.image or example_photo_path()
-    if det_name == "onnx" and Path(path).is_file():
-        rgb = photo.load_image(path)
+    path = args.image if args.image and det_name == "onnx" else example_photo_path()
+    rgb = photo.load_image(path)
+    if rgb.shape[:2] != (720, 1280):
         rgb = cv2.resize(rgb, (1280, 720), interpolation=cv2.INTER_AREA)
-        source = path
-    else:
-        rgb = blank_image(camera("45"))
-        source = "blank 1280x720 frame"
+    source = path
     stages: dict[str, list[float]] = {}
     for _ in range(args.runs):
         t = time.perf_counter()

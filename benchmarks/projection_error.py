@@ -6,8 +6,15 @@ the table is fitted from the dots alone and each ball is located. Reported: mean
 ground truth per view and method [cm, 9-ft table], and view to view (45 and front against top, as in the
 paper, which found 0.4 cm).
 
+With ``--rendered N`` the views are instead N multi-view sets from the synthetic renderer
+(:func:`pix2pockets.synth.renderer.render_views`: top, high ~45 degrees, front; random table size, scene and
+camera per set), and the detections are the renders' exact labels (visible ball boxes, diamond boxes). The
+rail-cap height of the renders varies (3-12 mm above the cushion nose); the fit assumes
+:func:`~pix2pockets.vision.table_fit.diamond_height` unless ``--known-height`` passes the true one.
+
 Usage:
     PYTHONPATH=src python benchmarks/projection_error.py --json OUT.json [--sets 25] [--noise 0.5]
+    PYTHONPATH=src python benchmarks/projection_error.py --rendered 8 --json OUT.json [--known-height]
 """
 
 from __future__ import annotations
@@ -19,9 +26,9 @@ import sys
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
-from pix2pockets.geometry import TableSpec
+from pix2pockets.geometry import TableSpec, table_preset
 from pix2pockets.state import random_layout
-from pix2pockets.vision.analytic import analytic_detections, standard_views
+from pix2pockets.vision.analytic import analytic_detections, detections_from_synth_labels, standard_views
 from pix2pockets.vision.ball_location import LocateMethod, locate_balls
 from pix2pockets.vision.table_fit import TableFitError, fit_table
 
@@ -70,24 +77,75 @@ def run(sets: int, noise: float, seed: int) -> dict:
             for name in per_view:
                 if name != "top":
                     v2v[m.value][name].extend(matched_errors(per_view[name][m.value], per_view["top"][m.value], spec))
+    return summarise(truth_err, v2v, {"sets": sets, "noise_px": noise, "seed": seed, "fit_failures": failures})
+
+
+def run_rendered(sets: int, seed: int, known_height: bool, size: tuple[int, int]) -> dict:
+    from pix2pockets.synth.renderer import render_views
+
+    views = ("top", "high", "front")
+    truth_err: dict[str, dict[str, list[float]]] = {m.value: {v: [] for v in views} for m in METHODS}
+    v2v: dict[str, dict[str, list[float]]] = {m.value: {v: [] for v in views[1:]} for m in METHODS}
+    failures: list[str] = []
+    for k in range(sets):
+        renders = render_views((seed, k), size=size, views=views)
+        per_view: dict[str, dict[str, np.ndarray]] = {}
+        for rend in renders:
+            lab = rend.labels
+            spec = table_preset(lab["table"]["name"])
+            scale = TableSpec().length / spec.length  # errors scaled to a 9-ft table, as in the paper
+            det = detections_from_synth_labels(lab)
+            truth = np.array([b["centre_table_m"][:2] for b in lab["balls"] if b["labelled"]])
+            z = lab["heights_m"]["diamonds"] if known_height else None
+            try:
+                fit = fit_table(det, tuple(lab["image_size"]), spec, diamond_z=z)
+            except TableFitError as err:
+                failures.append(f"set {k} {lab['view']}: {err}")
+                continue
+            per_view[lab["view"]] = {}
+            for m in METHODS:
+                loc = locate_balls(fit.camera, det, spec, m)
+                per_view[lab["view"]][m.value] = loc.positions * scale
+                if len(loc.positions) and len(truth):
+                    errs = matched_errors(loc.positions, truth, spec) * scale
+                    truth_err[m.value][lab["view"]].extend(errs)
+        for m in METHODS:
+            if "top" not in per_view:
+                continue
+            for name in per_view:
+                if name != "top" and len(per_view[name][m.value]) and len(per_view["top"][m.value]):
+                    v2v[m.value][name].extend(
+                        matched_errors(per_view[name][m.value], per_view["top"][m.value], TableSpec())
+                    )
+    return summarise(
+        truth_err,
+        v2v,
+        {
+            "sets": sets,
+            "seed": seed,
+            "rendered": True,
+            "known_height": known_height,
+            "size": list(size),
+            "fit_failures": len(failures),
+            "failures": failures,
+        },
+    )
+
+
+def summarise(truth_err: dict, v2v: dict, meta: dict) -> dict:
     cm = 100.0
-    out = {
-        "sets": sets,
-        "noise_px": noise,
-        "seed": seed,
-        "fit_failures": failures,
-        "vs_truth_cm": {m: {v: float(np.mean(e) * cm) for v, e in d.items()} for m, d in truth_err.items()},
-        "vs_truth_all_views_cm": {
-            m: float(np.mean(np.concatenate([np.asarray(e, dtype=float) for e in d.values()])) * cm)
-            for m, d in truth_err.items()
-        },
-        "view_to_view_cm": {m: {v: float(np.mean(e) * cm) for v, e in d.items()} for m, d in v2v.items()},
-        "view_to_view_all_cm": {
-            m: float(np.mean(np.concatenate([np.asarray(e, dtype=float) for e in d.values()])) * cm)
-            for m, d in v2v.items()
-        },
+
+    def mean(values) -> float | None:
+        values = list(values)
+        return float(np.mean(values) * cm) if values else None
+
+    return {
+        **meta,
+        "vs_truth_cm": {m: {v: mean(e) for v, e in d.items()} for m, d in truth_err.items()},
+        "vs_truth_all_views_cm": {m: mean(x for e in d.values() for x in e) for m, d in truth_err.items()},
+        "view_to_view_cm": {m: {v: mean(e) for v, e in d.items()} for m, d in v2v.items()},
+        "view_to_view_all_cm": {m: mean(x for e in d.values() for x in e) for m, d in v2v.items()},
     }
-    return out
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -95,19 +153,46 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--sets", type=int, default=25, help="number of layouts (3 views each)")
     parser.add_argument("--noise", type=float, default=0.5, help="pixel noise (std) on box edges and dots")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--rendered", type=int, default=0, help="use N rendered multi-view sets instead")
+    parser.add_argument("--known-height", action="store_true", help="rendered: give the fit the true diamond height")
+    parser.add_argument("--size", default="1280x720", help="rendered: image size WxH")
     parser.add_argument("--json", help="write results to this JSON file")
     args = parser.parse_args(argv)
-    res = run(args.sets, args.noise, args.seed)
-    print(f"projection error, {res['sets']} layouts x 3 views, noise {res['noise_px']} px, 9-ft table [cm]")
-    print(f"{'method':<8} {'top':>6} {'45':>6} {'front':>6} {'all':>6} | {'v2v 45':>7} {'v2v frt':>7} {'v2v':>6}")
+    if args.rendered:
+        size = tuple(int(v) for v in args.size.lower().split("x"))
+        res = run_rendered(args.rendered, args.seed, args.known_height, size)
+        print(
+            f"projection error, {res['sets']} rendered sets x 3 views (exact labels, "
+            f"{'known' if args.known_height else 'assumed'} diamond height), scaled to a 9-ft table [cm]"
+        )
+    else:
+        res = run(args.sets, args.noise, args.seed)
+        print(f"projection error, {res['sets']} layouts x 3 views, noise {res['noise_px']} px, 9-ft table [cm]")
+    views = list(next(iter(res["vs_truth_cm"].values())))
+
+    def f(x: float | None) -> str:
+        return "   n/a" if x is None else f"{x:6.3f}"
+
+    print(
+        f"{'method':<8} "
+        + " ".join(f"{v:>6}" for v in views)
+        + f" {'all':>6} | "
+        + " ".join(f"{'v2v ' + v:>9}" for v in views[1:])
+        + f" {'v2v':>6}"
+    )
     for m in res["vs_truth_cm"]:
         t = res["vs_truth_cm"][m]
         v = res["view_to_view_cm"][m]
         print(
-            f"{m:<8} {t['top']:6.3f} {t['45']:6.3f} {t['front']:6.3f} {res['vs_truth_all_views_cm'][m]:6.3f} | "
-            f"{v['45']:7.3f} {v['front']:7.3f} {res['view_to_view_all_cm'][m]:6.3f}"
+            f"{m:<8} "
+            + " ".join(f(t[x]) for x in views)
+            + f" {f(res['vs_truth_all_views_cm'][m])} | "
+            + " ".join(f"   {f(v[x])}" for x in views[1:])
+            + f" {f(res['view_to_view_all_cm'][m])}"
         )
     print(f"table fit failures: {res['fit_failures']}")
+    for line in res.get("failures", []):
+        print("  ", line)
     if args.json:
         with open(args.json, "w") as fh:
             json.dump(res, fh, indent=2)

@@ -97,3 +97,11 @@ def test_bad_output_paths(tmp_path, photo_file, capsys):
     assert main(["suggest", str(photo_file), "--out", str(tmp_path / "missing" / "x.png")]) == 2
     assert main(["suggest", str(tmp_path / "nope.png")]) == 2
     assert len(capsys.readouterr().err.strip().splitlines()) == 3
+
+
+def test_without_image_uses_the_bundled_example(tmp_path, standins, capsys):
+    js = tmp_path / "o.json"
+    assert main(["suggest", "--json", str(js)]) == 0
+    doc = json.loads(js.read_text())
+    assert doc["image"]["path"].endswith("table_example.jpg")
+    assert doc["image"]["width"] == 1280

@@ -86,3 +86,20 @@ def blank_image(cam: PinholeCamera) -> np.ndarray:
 
 def angle_deg(a: float) -> float:
     return math.degrees(a) % 360
+
+
+class ExampleLabelsDetector:
+    """Exact labels of the bundled example photo (full silhouette boxes)."""
+
+    def __init__(self) -> None:
+        import json
+        from pathlib import Path
+
+        from pix2pockets.cli.suggest_cmd import EXAMPLE_LABELS, example_photo_path
+
+        self.labels = json.loads((Path(example_photo_path()).parent / EXAMPLE_LABELS).read_text())
+
+    def detect(self, image_rgb: np.ndarray) -> Detections:
+        from pix2pockets.vision.analytic import detections_from_synth_labels
+
+        return detections_from_synth_labels(self.labels, silhouette=True)

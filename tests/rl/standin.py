@@ -1,7 +1,8 @@
 """A tiny stand-in for the pix2pockets environments, with the same API surface the RL code relies on.
 
-MultiDiscrete([360, 5]) or Box([-1, 1]^2) actions, a 48-float observation, ``action_masks()`` with a
-``mask`` argument, ``info["is_success"]`` / ``info["won"]``; a turn of up to three "balls".
+MultiDiscrete([360, 5]) or Box([-1, 1]^2) actions (``action_type``), a 48-float observation,
+``action_masks()`` (``mask_kind``), ``info["shot_success"]`` / ``info["outcome"]``; a turn of up to three
+"balls". Fast enough for unit tests of the training code.
 """
 
 from __future__ import annotations
@@ -18,12 +19,12 @@ N_DIR, N_POW = 360, 5
 class StandInEnv(gym.Env):
     metadata: ClassVar[dict[str, Any]] = {"render_modes": []}
 
-    def __init__(self, continuous: bool = False, mask: str | None = None, balls: int = 3) -> None:
-        self.continuous = continuous
-        self.mask = mask
+    def __init__(self, action_type: str = "discrete", mask_kind: str = "direct", balls: int = 3) -> None:
+        self.continuous = action_type == "continuous"
+        self.mask = mask_kind
         self.balls = balls
         self.observation_space = gym.spaces.Box(-1.0, 1.0, (48,), dtype=np.float32)
-        if continuous:
+        if self.continuous:
             self.action_space = gym.spaces.Box(-1.0, 1.0, (2,), dtype=np.float32)
         else:
             self.action_space = gym.spaces.MultiDiscrete([N_DIR, N_POW])
@@ -55,11 +56,14 @@ class StandInEnv(gym.Env):
         won = hit and self._left == 0
         terminated = (not hit) or won
         reward = 1.0 if won else (0.3 if hit else -0.2)
-        return self._obs(), reward, terminated, False, {"is_success": hit, "won": won}
+        info = {"shot_success": hit, "outcome": "win" if won else ("continue" if hit else "end_turn")}
+        if terminated:
+            info["is_success"] = won
+        return self._obs(), reward, terminated, False, info
 
     def action_masks(self) -> np.ndarray:
-        if self.mask is None:
-            raise ValueError("created without a mask")
+        if self.continuous:
+            raise ValueError("action_masks() needs action_type='discrete'")
         d = np.zeros(N_DIR, dtype=bool)
         d[max(0, self._target - 5) : self._target + 6] = True
         return np.concatenate([d, np.ones(N_POW, dtype=bool)])

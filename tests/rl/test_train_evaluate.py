@@ -55,7 +55,7 @@ def test_train_save_load_evaluate(algo, env_id, tmp_path):
     assert meta.choice.continuous == ALGOS[algo].continuous
     assert meta.choice.mask == ("direct" if algo == "maskable-ppo" else None)
     monitor = (tmp_path / algo / "monitor.csv").read_text().splitlines()
-    assert "shots" in monitor[1] and len(monitor) > 3
+    assert "ep_shots" in monitor[1] and len(monitor) > 3
     result = evaluate_model(str(path), episodes=20, seed=3)
     assert result.shot_success.trials >= 20
     assert 0.0 <= result.shot_success.ci95[0] <= result.shot_success.rate <= result.shot_success.ci95[1] <= 1.0
@@ -160,3 +160,28 @@ def test_cli_bad_input(argv, message, tmp_path, capsys):
     err = capsys.readouterr().err
     assert message in err
     assert "Traceback" not in err
+
+
+def test_export_slim_agent_loads_and_acts_alike(env_id, tmp_path):
+    from pix2pockets.rl.export import slim_agent
+
+    config = TrainConfig(
+        "ppo", env_id, steps=64, seed=0, out=str(tmp_path / "p"), progress=False, overrides=SMALL["ppo"]
+    )
+    path = train(config)
+    slim = slim_agent(path, tmp_path / "slim.zip")
+    assert slim.stat().st_size < path.stat().st_size
+    assert read_meta(slim) == read_meta(path)
+    full = evaluate_model(str(path), episodes=20, seed=5)
+    small = evaluate_model(str(slim), episodes=20, seed=5)
+    # float16 weights may flip a near-tie, but the policy stays essentially the same.
+    assert abs(full.shot_success.rate - small.shot_success.rate) <= 0.2
+    with pytest.raises(ValueError, match="differ"):
+        slim_agent(path, path)
+
+
+def test_random_masked_baseline_uses_the_mask(env_id):
+    result = evaluate_random(EnvChoice(env_id, mask="direct"), episodes=20, seed=0)
+    # The stand-in's mask allows only successful directions.
+    assert result.policy == "random-masked"
+    assert result.shot_success.rate == 1.0

@@ -27,9 +27,10 @@ def test_wilson_interval_known_values():
 @pytest.mark.parametrize(
     ("terminated", "info", "expected"),
     [
-        (True, {"is_success": False}, (False, False)),
-        (False, {"is_success": True}, (True, False)),
-        (True, {"is_success": True, "won": True}, (True, True)),
+        (True, {"shot_success": False, "outcome": "end_turn"}, (False, False)),
+        (False, {"shot_success": True, "outcome": "continue"}, (True, False)),
+        (True, {"shot_success": True, "outcome": "win", "is_success": True}, (True, True)),
+        (True, {"shot_success": True, "outcome": "loss"}, (True, False)),
         (False, {}, (True, False)),
         (True, {}, (False, False)),
     ],
@@ -58,7 +59,7 @@ def test_env_choice_maps_short_names():
 
 
 def test_max_power_mask_keeps_directions_and_only_top_power():
-    env = MaxPowerMask(gym.make(register_standin(), mask="direct"))
+    env = MaxPowerMask(gym.make(register_standin(), mask_kind="direct"))
     env.reset(seed=0)
     base = env.unwrapped.action_masks()
     mask = env.action_masks()
@@ -69,3 +70,14 @@ def test_max_power_mask_keeps_directions_and_only_top_power():
 def test_rl_modules_present_in_this_venv():
     # CI installs the rl extra; if this fails the extra is missing there.
     assert missing_rl_modules() == []
+
+
+def test_masked_sample_stays_inside_the_mask():
+    from pix2pockets.rl.evaluate import masked_sample
+
+    rng = np.random.default_rng(0)
+    mask = np.zeros(10 + 3, dtype=bool)
+    mask[[2, 7]] = True
+    mask[12] = True
+    draws = {tuple(masked_sample(mask, np.array([10, 3]), rng)) for _ in range(50)}
+    assert draws == {(2, 2), (7, 2)}

@@ -81,3 +81,20 @@ def test_settle_positions_separates_touching_estimates():
 def test_unknown_method_is_rejected():
     with pytest.raises(ValueError):
         locate_balls(VIEWS["top"], Detections.empty(), SPEC, "magic")
+
+
+def test_box_cut_by_the_image_border_keeps_its_inner_edge():
+    cam = VIEWS["top"]
+    R = SPEC.ball_radius
+    # a ball whose image straddles the left border
+    x = 0.1
+    while cam.project_table(np.array([x, 0.6]), R)[0] > 2.0:
+        x -= 0.005
+    box = sphere_boxes(cam, np.array([[x, 0.6, R]]), R)[0]
+    assert box[0] < 0 < box[2]
+    cut = box.copy()
+    cut[0] = 0.0
+    from pix2pockets.vision.ball_location import locate_sphere
+
+    xy = locate_sphere(cam, cut[None], R)[0]
+    assert abs(xy[0] - x) < 0.002 and abs(xy[1] - 0.6) < 0.002

@@ -4,7 +4,7 @@ import pytest
 from pix2pockets.geometry import PinholeCamera, TableSpec
 from pix2pockets.vision.analytic import standard_views
 from pix2pockets.vision.detections import Detections
-from pix2pockets.vision.table_fit import TableFitError, fit_rail_lines, fit_table
+from pix2pockets.vision.table_fit import TableFitError, diamond_height, fit_rail_lines, fit_table
 
 SPEC = TableSpec()
 VIEWS = standard_views(SPEC)
@@ -12,7 +12,7 @@ VIEWS = standard_views(SPEC)
 
 def dots_of(cam: PinholeCamera, noise: float = 0.0, seed: int = 0) -> np.ndarray:
     rng = np.random.default_rng(seed)
-    return cam.project_table(SPEC.diamonds, SPEC.cushion_height) + rng.normal(0, noise, (18, 2))
+    return cam.project_table(SPEC.diamonds, diamond_height(SPEC)) + rng.normal(0, noise, (18, 2))
 
 
 @pytest.mark.parametrize("view", sorted(VIEWS))
@@ -102,3 +102,21 @@ def test_fit_rail_lines_splits_rails():
     lines = fit_rail_lines(d, tol_px=2.0)
     sizes = sorted(len(x) for x in lines)
     assert sizes == [3, 3, 6, 6]
+
+
+def test_close_phone_view_with_a_corner_behind_the_camera():
+    # standing at the bottom rail near the foot end, looking along the table toward the head end
+    cam = PinholeCamera.look_at(np.array([2.2, -0.15, 0.45]), np.array([0.4, 0.9, 0.0]), 700.0, (960, 540))
+    uv = cam.project_table(SPEC.diamonds, diamond_height(SPEC))
+    w, h = cam.image_size
+    seen = np.flatnonzero(
+        np.all(np.isfinite(uv), axis=1) & (uv[:, 0] >= 0) & (uv[:, 0] < w) & (uv[:, 1] >= 0) & (uv[:, 1] < h)
+    )
+    assert len(seen) >= 8
+    fit = fit_table(uv[seen], cam.image_size, SPEC)
+    assert fit.camera.focal_px == pytest.approx(700.0, rel=0.02)
+    corners = fit.corners_px
+    truth = cam.project_table(SPEC.corners, 0.0)
+    both = np.all(np.isfinite(truth), axis=1) & np.all(np.isfinite(corners), axis=1)
+    assert both.any()
+    assert np.abs(corners[both] - truth[both]).max() < 5.0

@@ -20,6 +20,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--split", default="test", help="split folder (default test)")
     parser.add_argument("--model", default=None, help="ONNX model (default: the bundled detector)")
     parser.add_argument("--detector", choices=["onnx", "hough"], default="onnx", help="onnx (default) or hough")
+    parser.add_argument("--hough-radii", default="15,30", help="hough: min ball radius, max radius px (paper 15,30)")
     parser.add_argument("--agnostic", action="store_true", help="class-agnostic ball metrics")
     parser.add_argument("--ball-classes", default="0,1,2,3", help="dataset ids that are balls (agnostic mode)")
     parser.add_argument("--conf", type=float, default=0.25, help="confidence threshold for P/R/F1 (default 0.25)")
@@ -38,9 +39,13 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as err:
         raise ValueError(f"--ball-classes must be comma-separated integers, got {args.ball_classes!r}") from err
     if args.detector == "hough":
-        from pix2pockets.vision.hough import HoughDetector
+        from pix2pockets.vision.hough import HoughDetector, HoughParams
 
-        detector = HoughDetector(dots=not args.agnostic)
+        try:
+            r_min, r_max = (int(v) for v in args.hough_radii.split(","))
+        except ValueError as err:
+            raise ValueError(f"--hough-radii must be two integers like 15,30, got {args.hough_radii!r}") from err
+        detector = HoughDetector(HoughParams(min_radius_ball=r_min, max_radius=r_max), dots=not args.agnostic)
         model = "hough"
     else:
         from pix2pockets.vision.onnx_detector import OnnxDetector, OnnxDetectorConfig, default_model_path

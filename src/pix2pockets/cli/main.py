@@ -15,6 +15,8 @@ from collections.abc import Sequence
 
 from pix2pockets import __version__
 
+# Sub-command modules, imported lazily so `pix2pockets --help` stays fast.
+
 
 def discover_commands() -> tuple[str, ...]:
     """Sub-command modules: every ``pix2pockets.cli.*_cmd`` module, sorted by name."""

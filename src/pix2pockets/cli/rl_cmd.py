@@ -32,10 +32,18 @@ def register(sub: argparse._SubParsersAction) -> None:
     ev.add_argument("--model", help="agent file (model.zip / checkpoint.zip from `rl train`)")
     ev.add_argument("--policy", choices=("model", "random"), default="model", help="random: uniform baseline")
     ev.add_argument("--env", help=f"with --policy random: {ENV_HELP}")
+    ev.add_argument("--mask", choices=("direct", "mirror"), help="with --policy random: uniform among masked actions")
+    ev.add_argument("--max-power", action="store_true", help="with --policy random --mask: strongest power only")
     ev.add_argument("--episodes", type=int, default=1000)
     ev.add_argument("--seed", type=int, default=12345, help="seed of the evaluation layouts (not a training seed)")
     ev.add_argument("--json", metavar="OUT.json", help="write the numbers as JSON")
     ev.set_defaults(func=run_evaluate)
+
+    ex = rl_sub.add_parser("export", help="slim copy of an agent (float16 weights, no optimizer state) to ship")
+    ex.add_argument("--model", required=True, help="agent file from `rl train`")
+    ex.add_argument("--out", required=True, help="output .zip")
+    ex.add_argument("--full-precision", action="store_true", help="keep float32 weights")
+    ex.set_defaults(func=run_export)
 
     pl = rl_sub.add_parser("plot", help="learning curves (per-shot success) of run directories as a PNG")
     pl.add_argument("runs", nargs="+", help="run directories (each with monitor.csv and config.json)")
@@ -84,14 +92,27 @@ def run_evaluate(args: argparse.Namespace) -> int:
     if args.policy == "random":
         if not args.env:
             raise ValueError("--policy random needs --env")
-        result = evaluate_random(EnvChoice(env=args.env), args.episodes, args.seed)
+        result = evaluate_random(
+            EnvChoice(env=args.env, mask=args.mask, max_power=args.max_power), args.episodes, args.seed
+        )
     else:
+        if args.mask or args.max_power:
+            raise ValueError("--mask / --max-power apply to --policy random; an agent file knows its own mask")
         if not args.model:
             raise ValueError("give --model PATH (or --policy random --env ENV)")
         result = evaluate_model(args.model, args.episodes, args.seed)
     print(result.summary())
     if args.json:
         Path(args.json).write_text(json.dumps(result.to_dict(), indent=2) + "\n")
+    return 0
+
+
+def run_export(args: argparse.Namespace) -> int:
+    _require_rl()
+    from pix2pockets.rl.export import slim_agent
+
+    path = slim_agent(args.model, args.out, half=not args.full_precision)
+    print(f"wrote {path} ({path.stat().st_size / 1e6:.2f} MB)")
     return 0
 
 

@@ -9,7 +9,8 @@ import tempfile
 from importlib import resources
 from pathlib import Path
 
-EXAMPLE_PHOTO = "table_example.png"
+EXAMPLE_PHOTO = "table_example.jpg"
+EXAMPLE_LABELS = "table_example.labels.json"
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".webp")
 
 
@@ -32,6 +33,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--json", dest="json_out", help="write the result as JSON here ('-' for stdout)")
     parser.add_argument("--model", help="detector ONNX model (default: the bundled one)")
     parser.add_argument("--method", choices=["sphere", "contact", "linear"], default="sphere", help="ball location")
+    parser.add_argument("--table", choices=["9ft", "8ft", "7ft"], default="9ft", help="table size (default 9ft)")
     parser.add_argument("--force", action="store_true", help="overwrite existing output files")
     parser.set_defaults(func=run)
 
@@ -97,7 +99,9 @@ def run(args: argparse.Namespace) -> int:
 
         detector = OnnxDetector(args.model)
     rgb = load_image(image)
-    result = suggest(rgb, group=args.group, detector=detector, locate_method=args.method)
+    from pix2pockets.geometry import table_preset
+
+    result = suggest(rgb, group=args.group, detector=detector, spec=table_preset(args.table), locate_method=args.method)
     # everything is computed before anything is written: errors leave no partial outputs
     picture = encode_image(render_result(rgb, result), Path(args.out).suffix.lower()) if args.out else None
     doc = result.to_dict()

@@ -20,6 +20,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--resume", action="store_true", help="continue from OUT/last.pt")
     parser.add_argument("--balls", action="append", default=[], help="ball-only YOLO dataset, e.g. real photos")
     parser.add_argument("--balls-class", type=int, default=0, help="class id of 'ball' in --balls sets (default 0)")
+    parser.add_argument(
+        "--balls-exclude", action="append", default=[], help="file-name glob of ball-only images to skip (repeatable)"
+    )
     parser.add_argument("--balls-fraction", type=float, default=0.25, help="ball-only images per epoch (fraction)")
     parser.add_argument("--batch", type=int, default=8, help="images per step (default 8)")
     parser.add_argument("--crop", type=int, default=320, help="training crop side in px (default 320)")
@@ -30,6 +33,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--max-minutes", type=float, default=0.0, help="stop, checkpoint and export after this")
     parser.add_argument("--no-pretrained", action="store_true", help="random trunk init (no ImageNet weights)")
     parser.add_argument("--init", default=None, help="start from the weights of this checkpoint (last.pt)")
+    parser.add_argument(
+        "--export-only", action="store_true", help="only export OUT/last.pt to OUT/detector.onnx (no training)"
+    )
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
@@ -40,11 +46,22 @@ def run(args: argparse.Namespace) -> int:
     except ImportError as err:
         raise ValueError(f"train-detector needs torch (pip install 'pix2pockets[train]'): {err}") from err
 
+    if args.export_only:
+        from pathlib import Path
+
+        from pix2pockets.vision.train.trainer import CHECKPOINT, ONNX_NAME, export_checkpoint
+
+        ckpt = Path(args.out) / CHECKPOINT
+        if not ckpt.exists():
+            raise ValueError(f"--export-only: no checkpoint {ckpt}")
+        print(f"wrote {export_checkpoint(ckpt, Path(args.out) / ONNX_NAME)}")
+        return 0
     cfg = TrainConfig(
         data=tuple(args.data),
         out=args.out,
         balls=tuple(args.balls),
         balls_class=args.balls_class,
+        balls_exclude=tuple(args.balls_exclude),
         epochs=args.epochs,
         seed=args.seed,
         batch=args.batch,

@@ -106,9 +106,12 @@ def focal_from_homography(H: np.ndarray, image_size: tuple[int, int]) -> float |
     return f
 
 
-def pose_from_homography(H: np.ndarray, K: np.ndarray, z: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
+def pose_from_homography(
+    H: np.ndarray, K: np.ndarray, z: float = 0.0, ref_xy: np.ndarray | None = None
+) -> tuple[np.ndarray, np.ndarray]:
     """Rotation and translation of a camera with intrinsics ``K`` that sees the plane at height ``z``
-    through ``H`` (plane -> pixels); the camera is put above the plane (``+z`` side)."""
+    through ``H`` (plane -> pixels). The sign is chosen so that the plane point ``ref_xy`` [m] (a point
+    seen in the image; default the plane origin) lies in front of the camera."""
     B = np.linalg.inv(K) @ H
     lam = 2.0 / (np.linalg.norm(B[:, 0]) + np.linalg.norm(B[:, 1]))
     B = B * lam
@@ -120,8 +123,9 @@ def pose_from_homography(H: np.ndarray, K: np.ndarray, z: float = 0.0) -> tuple[
     if np.linalg.det(R) < 0:
         R = U @ np.diag([1.0, 1.0, -1.0]) @ Vt
     t_plane = B[:, 2]
-    # plane points must lie in front of the camera: flip the overall sign if needed
-    if t_plane[2] < 0:
+    ref = np.zeros(2) if ref_xy is None else np.asarray(ref_xy, dtype=float)
+    # the seen plane point must lie in front of the camera: flip the overall sign if needed
+    if (B[2, 0] * ref[0] + B[2, 1] * ref[1] + t_plane[2]) < 0:
         R = R @ np.diag([-1.0, -1.0, 1.0])
         t_plane = -t_plane
     t = t_plane - z * R[:, 2]
@@ -188,7 +192,8 @@ def camera_from_homography(
     def intrinsics(f: float) -> np.ndarray:
         return np.array([[f, 0.0, w / 2], [0.0, f, h / 2], [0.0, 0.0, 1.0]])
 
-    R, t = pose_from_homography(H, intrinsics(f), z)
+    ref = None if world_points is None or len(world_points) == 0 else np.asarray(world_points)[:, :2].mean(axis=0)
+    R, t = pose_from_homography(H, intrinsics(f), z, ref)
     if world_points is None or image_points is None or len(world_points) < 4:
         return PinholeCamera(intrinsics(f), R, t, (int(w), int(h)))
     X = np.asarray(world_points, dtype=float)
@@ -202,13 +207,25 @@ def camera_from_homography(
         prior = (p[0] - math.log(f0)) / focal_prior_sigma
         return np.concatenate([(proj - uv).ravel(), [prior]])
 
-    p0 = np.concatenate([[math.log(f)], _rotation_vector(R), t])
-    sol = least_squares(residuals, p0, method="lm", x_scale="jac")
-    fk = math.exp(sol.x[0])
-    Rk = _rodrigues(sol.x[1:4])
+    # multi-start over the focal length: near-degenerate point sets (few rails) have local minima
+    starts = [f] + [k * f0 for k in (1.0, 0.5, 2.0) if abs(math.log(k * f0 / f)) > 0.1]
+    best = None
+    for fs in starts:
+        Rs, ts = pose_from_homography(H, intrinsics(fs), z, ref)
+        p0 = np.concatenate([[math.log(fs)], _rotation_vector(Rs), ts])
+        try:
+            sol = least_squares(residuals, p0, method="lm", x_scale="jac")
+        except ValueError:
+            continue
+        if np.all(np.isfinite(sol.x)) and (best is None or sol.cost < best.cost):
+            best = sol
+    if best is None:
+        return PinholeCamera(intrinsics(f), R, t, (int(w), int(h)))
+    fk = math.exp(best.x[0])
+    Rk = _rodrigues(best.x[1:4])
     # re-orthonormalise against round-off
     U, _, Vt = np.linalg.svd(Rk)
-    return PinholeCamera(intrinsics(fk), U @ Vt, sol.x[4:7].copy(), (int(w), int(h)))
+    return PinholeCamera(intrinsics(fk), U @ Vt, best.x[4:7].copy(), (int(w), int(h)))
 
 
 def camera_tilt(camera: PinholeCamera) -> float:

@@ -6,6 +6,11 @@ ball-cushion collisions with constant restitution; a shot sets the cue-ball velo
 offsets and elevation are ignored). Cushions are the ``TableSpec`` cushion-nose segments, jaws its jaw
 segments; a ball drops when its centre enters a pocket's capture circle.
 
+Restitution: the paper sets shape elasticities 0.95 (balls) and 0.8 (cushions), and its code makes
+ball-ball hits ideal elastic and cushion hits mirror reflections. Here ``ball_restitution`` and
+``cushion_restitution`` are the coefficients of each *pair* (pymunk would otherwise multiply the two
+shapes' values); ``PymunkParams(ball_restitution=1.0)`` gives the ideal elastic ball-ball hits.
+
 Differences from the paper's code, on purpose:
     * the shot ends when every ball is slower than ``rest_speed`` (balls in resting contact were
       re-energised forever there); a simulated-time cap raises a clear ``RuntimeError`` instead of hanging;

@@ -15,6 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pix2pockets.geometry.raster import table_to_env_pixels
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.pipeline.planning import ShotPlanner, default_planner, plan_shot
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
@@ -40,7 +41,12 @@ def default_detector() -> Detector:
     """
     from pix2pockets.vision.onnx_detector import OnnxDetector
 
-    return OnnxDetector.from_default()
+    try:
+        return OnnxDetector.from_default()
+    except ValueError as err:
+        raise ValueError(
+            f"{err} (pass a model with --model / detector=, or train one: pix2pockets train-detector)"
+        ) from None
 
 
 def load_image(image: str | Path | np.ndarray) -> np.ndarray:
@@ -127,6 +133,7 @@ def suggest(
             tuple(float(v) for v in box),
             tuple(float(v) for v in contact),
             tuple(float(v) for v in xy),
+            tuple(float(v) for v in table_to_env_pixels(xy, spec)),
         )
         for c, conf, box, contact, xy in zip(
             located.detections.class_id,

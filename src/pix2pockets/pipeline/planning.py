@@ -15,7 +15,7 @@ import numpy as np
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.pipeline.result import ShotAdvice
 from pix2pockets.rules import GameState
-from pix2pockets.state import BallClass, Group, TableLayout
+from pix2pockets.state import BallClass, Group, Shot, TableLayout
 
 
 @runtime_checkable
@@ -25,24 +25,18 @@ class ShotPlanner(Protocol):
     def suggest(self, layout: TableLayout, state: GameState, rng: np.random.Generator | None = None) -> list: ...
 
 
-def default_planner() -> ShotPlanner:
-    """The project's default planner (from :mod:`pix2pockets.planner`).
+def default_planner(time_budget: float | None = 0.5) -> ShotPlanner:
+    """The project's default planner: :class:`pix2pockets.planner.search.SearchPlanner` (event physics,
+    FastFiz-like execution noise) with a wall-clock budget of ``time_budget`` [s] per group.
 
     Raises:
-        ValueError: when no planner is installed in this build.
+        ValueError: when the planner cannot be built in this installation.
     """
     try:
-        from pix2pockets import planner as planner_mod
+        from pix2pockets.planner.search import SearchConfig, SearchPlanner
     except ImportError as err:  # pragma: no cover - depends on the build
         raise ValueError(f"no shot planner available: {err}") from None
-    factory = getattr(planner_mod, "default_planner", None)
-    if factory is not None:
-        return factory()
-    for name in ("SearchPlanner", "OraclePlanner"):
-        cls = getattr(planner_mod, name, None)
-        if cls is not None:
-            return cls()
-    raise ValueError("no shot planner available in pix2pockets.planner")
+    return SearchPlanner(SearchConfig(time_budget=time_budget))
 
 
 def _rail_hit(start: np.ndarray, angle: float, spec: TableSpec) -> np.ndarray:
@@ -117,6 +111,7 @@ def advice_from_candidate(candidate: Any, layout: TableLayout, group: Group) -> 
         object_path=object_path,
         ghost=ghost,
         safety=safety,
+        stroke=shot if isinstance(shot, Shot) else None,
     )
 
 

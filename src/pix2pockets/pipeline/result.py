@@ -13,6 +13,7 @@ import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.state.layout import TableLayout
+from pix2pockets.state.shot import Shot
 
 MIN_SPEED = 0.2  # [m/s] power level 1 (the environment's ActionConfig.min_speed)
 MAX_SPEED = 8.0  # [m/s] power level 30 (ActionConfig.max_speed)
@@ -35,6 +36,8 @@ class LocatedBall:
         bbox_px: box ``x1, y1, x2, y2`` [px].
         contact_px: where the ball touches the cloth, in the image [px].
         table_xy_m: ball centre in the table frame [m].
+        env_xy_px: the same in the paper's environment pixels (735 x 410 window, see
+            :func:`pix2pockets.geometry.raster.table_to_env_pixels`).
     """
 
     ball_class: str
@@ -42,6 +45,7 @@ class LocatedBall:
     bbox_px: tuple[float, float, float, float]
     contact_px: tuple[float, float]
     table_xy_m: tuple[float, float]
+    env_xy_px: tuple[float, float] = (float("nan"), float("nan"))
 
     def to_dict(self) -> dict:
         return {
@@ -50,6 +54,7 @@ class LocatedBall:
             "bbox_px": [round(v, 2) for v in self.bbox_px],
             "contact_px": [round(v, 2) for v in self.contact_px],
             "table_xy_m": [round(v, 4) for v in self.table_xy_m],
+            "env_xy_px": [round(v, 2) for v in self.env_xy_px],
         }
 
 
@@ -69,6 +74,7 @@ class ShotAdvice:
         object_path: the object ball's planned path [m], (k, 2): ball, (cushion,) pocket.
         ghost: ghost-ball centre [m] (``None`` for a safety).
         safety: no pocketable shot was found; this is the planner's safe play.
+        stroke: the full stroke (with tip offsets), for replaying in a simulator.
     """
 
     target_ball: int | None
@@ -82,6 +88,7 @@ class ShotAdvice:
     object_path: np.ndarray
     ghost: np.ndarray | None
     safety: bool = False
+    stroke: Shot | None = None
 
     @property
     def power_level(self) -> int:
@@ -99,6 +106,9 @@ class ShotAdvice:
             "success_probability": None if p is None else round(p, 4),
             "group": self.group,
             "safety": self.safety,
+            "tip_offset": None
+            if self.stroke is None
+            else {"side": round(self.stroke.side, 3), "height": round(self.stroke.height, 3)},
         }
 
     def describe(self, balls: tuple[LocatedBall, ...]) -> str:
@@ -123,7 +133,7 @@ class Suggestion:
     Attributes:
         image_size: (width, height) [px].
         corners_px: the 4 playing-surface corners (cushion-nose rectangle on the cloth) [px], (4, 2), in
-            ``TableSpec.corners`` order.
+            ``TableSpec.corners`` order; NaN (JSON ``null``) for a corner behind the camera.
         homography: image pixels -> table metres on the cloth (3, 3).
         balls: the located balls.
         shot: the suggested shot.
@@ -156,7 +166,9 @@ class Suggestion:
             "image": {"width": int(self.image_size[0]), "height": int(self.image_size[1])},
             "table": {
                 "spec": self.spec.name,
-                "corners_px": [[round(float(v), 2) for v in c] for c in self.corners_px],
+                "corners_px": [
+                    [round(float(v), 2) for v in c] if np.all(np.isfinite(c)) else None for c in self.corners_px
+                ],
                 "homography": [[float(v) for v in row] for row in self.homography],
             },
             "balls": [b.to_dict() for b in self.balls],

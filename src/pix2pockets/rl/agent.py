@@ -1,5 +1,9 @@
 """A trained agent as a shot-suggestion function: ``TableLayout (+ group) -> Shot``.
 
+:func:`load_agent` gives an :class:`RLAgent`; call it with a layout (and the shooter's group) for a
+:class:`~pix2pockets.state.Shot`, or use :meth:`RLAgent.as_planner` where the photo pipeline expects a
+shot planner (``suggest(layout, state, rng) -> [candidate]``, as ``pix2pockets suggest --agent PATH``).
+
 Example:
     >>> from pix2pockets.rl.agent import load_agent                     # doctest: +SKIP
     >>> agent = load_agent("src/pix2pockets/data/agents/all-ball.zip")  # doctest: +SKIP
@@ -8,6 +12,7 @@ Example:
 
 from __future__ import annotations
 
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -53,12 +58,60 @@ class RLAgent:
         if layout.cue_index is None:
             raise ValueError("the layout has no cue ball: nothing to shoot with")
         action = self.action_for(layout, group)
-        return self._env.get_wrapper_attr("action_to_shot")(action)
+        # The env's action map without execution noise: the intended stroke.
+        return self._env.unwrapped.actions.to_shot(np.asarray(action))
 
     __call__ = suggest
 
+    def as_planner(self) -> AgentPlanner:
+        """This agent in the pipeline's planner slot."""
+        return AgentPlanner(self)
+
     def close(self) -> None:
         self._env.close()
+
+
+@dataclass(frozen=True, slots=True)
+class AgentSuggestion:
+    """The agent's shot with what the environment's physics predicts for it (the planner candidate shape).
+
+    Attributes:
+        shot: the stroke.
+        target: index of the first ball hit when it drops (the predicted pot), else ``None``.
+        pocket: index (``TableSpec.pockets``) of that ball's pocket, else ``None``.
+        kind: ``"direct"`` for a predicted pot, else ``None``.
+        safety: no pot predicted.
+        success_probability: ``None``: an RL policy gives no calibrated probability.
+        value: 1.0 for a predicted pot, 0.0 otherwise.
+        hitpoint: ``None`` (not from the hitpoint geometry).
+    """
+
+    shot: Shot
+    target: int | None
+    pocket: int | None
+    kind: str | None
+    safety: bool
+    success_probability: float | None = None
+    value: float = 0.0
+    hitpoint: Any = None
+
+
+class AgentPlanner:
+    """Adapter: an :class:`RLAgent` as a planner, ``suggest(layout, state, rng) -> [AgentSuggestion]``."""
+
+    def __init__(self, agent: RLAgent) -> None:
+        self.agent = agent
+
+    def suggest(self, layout: TableLayout, state: Any = None, rng: np.random.Generator | None = None) -> list:
+        """One candidate: the agent's shot, its predicted pot filled in by simulating it once."""
+        group = getattr(state, "group", None)
+        shot = self.agent.suggest(layout, group)
+        result = self.agent._env.unwrapped.simulator.simulate(layout, shot)
+        first = result.first_contact
+        if first is not None and first in result.pocketed:
+            pocket = int(result.pocketed_into[list(result.pocketed).index(first)])
+            return [AgentSuggestion(shot, int(first), pocket, "direct", safety=False, value=1.0)]
+        return [AgentSuggestion(shot, None, None, None, safety=True)]
 
 
 def load_agent(path: str | Path) -> RLAgent:
@@ -71,10 +124,8 @@ def load_agent(path: str | Path) -> RLAgent:
     from pix2pockets.rl import require_rl
 
     require_rl()
-    import torch
+    from pix2pockets.rl.algos import configure_torch, load_model
 
-    from pix2pockets.rl.algos import load_model
-
-    torch.set_num_threads(1)
+    configure_torch()
     meta = read_meta(path)
     return RLAgent(load_model(meta.algo, str(path)), meta)

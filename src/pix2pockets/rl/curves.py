@@ -64,11 +64,11 @@ def learning_curve(run: str | Path, window: int = 2000, points: int = 200) -> Cu
     run = Path(run)
     config = json.loads((run / "config.json").read_text())
     cols = read_monitor(run / "monitor.csv")
-    if not cols or "shots" not in cols:
+    if not cols or "ep_shots" not in cols:
         return Curve(run_label(config), str(config["env"]), np.zeros(0), np.zeros(0))
     steps = np.cumsum(cols["l"])
-    shots = np.cumsum(cols["shots"])
-    wins = np.cumsum(cols["successes"])
+    shots = np.cumsum(cols["ep_shots"])
+    wins = np.cumsum(cols["ep_successes"])
     ends = np.linspace(min(window, shots[-1]), shots[-1], min(points, len(shots)))
     idx_end = np.searchsorted(shots, ends, side="left").clip(0, len(shots) - 1)
     idx_start = np.searchsorted(shots, shots[idx_end] - window, side="right") - 1

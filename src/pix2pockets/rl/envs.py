@@ -5,8 +5,8 @@ action-space variant an algorithm needs, the hitpoint mask, and adds two thin wr
 
 - :class:`MaxPowerMask`: the paper's ``PPO_mask(rho_max)``: the power part of the action mask allows only
   the strongest level, so the agent chooses the direction alone.
-- :class:`ShotOutcome`: counts shots, successful shots and wins per episode and puts them in ``info`` so
-  SB3's ``Monitor`` writes them to the learning-curve CSV.
+- :class:`ShotOutcome`: counts shots, successful shots and wins per episode and puts them in ``info``
+  (``ep_shots``, ``ep_successes``, ``ep_won``) so SB3's ``Monitor`` writes them to the learning-curve CSV.
 """
 
 from __future__ import annotations
@@ -25,7 +25,7 @@ ENV_IDS: dict[str, str] = {
 """Short names of the paper's three environments."""
 
 MASKS = ("direct", "mirror")
-EPISODE_KEYS = ("shots", "successes", "won")
+EPISODE_KEYS = ("ep_shots", "ep_successes", "ep_won")
 """Per-episode counters :class:`ShotOutcome` adds to the final ``info`` (and to the monitor CSV)."""
 
 
@@ -92,9 +92,9 @@ def env_kwargs(choice: EnvChoice) -> dict[str, Any]:
     """Keyword arguments for ``gymnasium.make`` that select the action variant and the mask."""
     kwargs: dict[str, Any] = {}
     if choice.continuous:
-        kwargs["continuous"] = True
+        kwargs["action_type"] = "continuous"
     if choice.mask is not None:
-        kwargs["mask"] = choice.mask
+        kwargs["mask_kind"] = choice.mask
     return kwargs
 
 
@@ -115,17 +115,17 @@ def make_env(choice: EnvChoice, **extra: Any) -> gym.Env:
 def read_outcome(terminated: bool, truncated: bool, info: dict[str, Any]) -> tuple[bool, bool]:
     """Whether a step's shot succeeded and whether it won the game, from the env's ``info``.
 
-    A shot succeeds when it legally pockets a target ball (or wins); in training mode a failed shot ends
-    the episode, so without an explicit ``is_success`` key a shot that does not end the episode counts as
-    a success.
+    The pool environments report ``info["shot_success"]`` (a legal pot of a target ball, or a win) and
+    ``info["outcome"]`` (``"win"`` for a won game) on every step. Without ``shot_success``, a shot that does
+    not end the (turn-mode) episode counts as a success.
     """
-    won = bool(info.get("won", False))
-    success = bool(info["is_success"]) if "is_success" in info else won or not (terminated or truncated)
+    won = info.get("outcome") == "win"
+    success = bool(info.get("shot_success", won or not (terminated or truncated)))
     return success or won, won
 
 
 class ShotOutcome(gym.Wrapper):
-    """Adds per-episode ``shots``, ``successes`` and ``won`` to the final step's ``info``."""
+    """Adds per-episode ``ep_shots``, ``ep_successes`` and ``ep_won`` to the final step's ``info``."""
 
     def __init__(self, env: gym.Env) -> None:
         super().__init__(env)
@@ -142,10 +142,8 @@ class ShotOutcome(gym.Wrapper):
         success, won = read_outcome(terminated, truncated, info)
         self._shots += 1
         self._successes += int(success)
-        info = dict(info)
-        info["shot_success"] = success
         if terminated or truncated:
-            info.update(shots=self._shots, successes=self._successes, won=won)
+            info = {**info, "ep_shots": self._shots, "ep_successes": self._successes, "ep_won": won}
         return obs, reward, terminated, truncated, info
 
     def action_masks(self) -> np.ndarray:

@@ -4,7 +4,7 @@ A run directory holds:
 
 - ``config.json``: the :class:`TrainConfig` (a resumed run must match it),
 - ``monitor.csv``: SB3 ``Monitor`` rows, one per episode (reward ``r``, length ``l``, wall time ``t``, and
-  ``shots`` / ``successes`` / ``won``), appended to across resumes,
+  ``ep_shots`` / ``ep_successes`` / ``ep_won``), appended to across resumes,
 - ``checkpoint.zip``: the latest model every ``checkpoint_every`` steps (no replay buffer: off-policy runs
   resume with an empty buffer, which refills within ``learning_starts`` + a few thousand steps),
 - ``model.zip``: the final agent (an agent file, see :mod:`pix2pockets.rl.bundle`),
@@ -19,7 +19,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-from pix2pockets.rl.algos import algo_spec, build_model, load_model
+from pix2pockets.rl.algos import algo_spec, build_model, configure_torch, load_model
 from pix2pockets.rl.bundle import AgentMeta, write_meta
 from pix2pockets.rl.envs import EPISODE_KEYS, EnvChoice, make_env
 
@@ -139,9 +139,7 @@ def train(config: TrainConfig, resume: bool = False) -> Path:
         ValueError: the run directory already holds a run and ``resume`` is false, or it holds a run with
             different settings.
     """
-    import torch
-
-    torch.set_num_threads(1)
+    configure_torch()
     out = Path(config.out)
     has_run = (out / CONFIG).exists()
     if has_run and not resume:

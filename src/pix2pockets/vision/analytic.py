@@ -1,7 +1,8 @@
 """Analytic detections: what a perfect detector would report for a camera and a layout.
 
-Dots are the projected diamond centres (rail-cap height); ball boxes are the exact bounding boxes of the
-projected spheres; contact points are the projected ball-cloth contact points. Optional Gaussian pixel
+Dots are the projected diamond centres (at :func:`~pix2pockets.vision.table_fit.diamond_height`); ball
+boxes are the exact bounding boxes of the projected spheres; contact points are the projected ball-cloth
+contact points. Optional Gaussian pixel
 noise imitates a real detector. Used as ground truth by tests and the projection-error benchmark.
 """
 
@@ -15,6 +16,7 @@ from pix2pockets.state.layout import TableLayout
 from pix2pockets.vision.ball_location import sphere_boxes
 from pix2pockets.vision.classes import CLASS_NAMES, DOT_ID
 from pix2pockets.vision.detections import Detections
+from pix2pockets.vision.table_fit import diamond_height
 
 DOT_BOX_HALF_PX = 4.0
 
@@ -59,7 +61,7 @@ def analytic_detections(
         boxes = boxes + rng.normal(0.0, box_noise_px, boxes.shape)
     contact = camera.project_table(layout.positions, 0.0) if len(layout) else np.zeros((0, 2))
     cls = np.array([CLASS_NAMES.index(b.ball_class.value) for b in layout.balls], dtype=int)
-    dots = camera.project_table(spec.diamonds, spec.cushion_height)
+    dots = camera.project_table(spec.diamonds, diamond_height(spec))
     if dot_noise_px:
         dots = dots + rng.normal(0.0, dot_noise_px, dots.shape)
     dot_boxes = np.column_stack([dots - DOT_BOX_HALF_PX, dots + DOT_BOX_HALF_PX])
@@ -73,3 +75,30 @@ def analytic_detections(
     c = det.centres
     inside = (c[:, 0] >= 0) & (c[:, 0] < w) & (c[:, 1] >= 0) & (c[:, 1] < h) & np.all(np.isfinite(c), axis=1)
     return det[inside]
+
+
+def detections_from_synth_labels(labels: dict, silhouette: bool = False) -> Detections:
+    """A perfect detector's output for a synthetic render's label dict (see ``docs/synth.md``).
+
+    Labelled balls give their visible boxes (or their full silhouette boxes with ``silhouette``) and
+    contact points; labelled diamonds give their boxes.
+    """
+    boxes, cls, contact = [], [], []
+    for b in labels["balls"]:
+        if b["labelled"]:
+            box = b["silhouette_box_px"] if silhouette and b.get("silhouette_box_px") else b["box_px"]
+            boxes.append(box)
+            cls.append(int(b["class_id"]))
+            contact.append(b["contact_px"])
+    for d in labels["diamonds"]:
+        if d["labelled"]:
+            boxes.append(d["box_px"])
+            cls.append(DOT_ID)
+            contact.append([np.nan, np.nan])
+    n = len(boxes)
+    return Detections(
+        np.array(boxes, dtype=float).reshape(-1, 4),
+        np.ones(n),
+        np.array(cls, dtype=int),
+        np.array(contact).reshape(-1, 2),
+    )

@@ -29,6 +29,7 @@ from pix2pockets.state.ball import Ball
 from pix2pockets.state.layout import TableLayout
 from pix2pockets.vision.classes import ball_class_of
 from pix2pockets.vision.detections import Detections
+from pix2pockets.vision.table_fit import diamond_height
 
 
 class LocateMethod(StrEnum):
@@ -64,17 +65,30 @@ def _box_centres(boxes: np.ndarray) -> np.ndarray:
     return (boxes[:, :2] + boxes[:, 2:]) / 2
 
 
-def locate_sphere(camera: PinholeCamera, boxes: np.ndarray, radius: float, iterations: int = 6) -> np.ndarray:
-    """Table centres [m] (n, 2) of balls whose silhouette boxes best match ``boxes`` (n, 4) [px]."""
+def locate_sphere(
+    camera: PinholeCamera, boxes: np.ndarray, radius: float, iterations: int = 6, border_px: float = 1.0
+) -> np.ndarray:
+    """Table centres [m] (n, 2) of balls whose silhouette boxes best match ``boxes`` (n, 4) [px].
+
+    A box cut by the image border keeps only its inner edge on that axis: the centre used is that edge
+    minus half the predicted silhouette size (boxes touching both borders of an axis use the centre).
+    """
     boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
     if len(boxes) == 0:
         return np.zeros((0, 2))
+    w, h = camera.image_size
+    lo_cut = boxes[:, :2] <= border_px
+    hi_cut = boxes[:, 2:] >= np.array([w, h]) - border_px
+    only_lo, only_hi = lo_cut & ~hi_cut, hi_cut & ~lo_cut
     Hinv = np.linalg.inv(camera.table_homography(radius))
-    target = apply_homography(Hinv, _box_centres(boxes))
-    xy = target.copy()
+    xy = apply_homography(Hinv, _box_centres(boxes))
     for _ in range(iterations):
         pred = sphere_boxes(camera, np.column_stack([xy, np.full(len(xy), radius)]), radius)
-        xy = xy + target - apply_homography(Hinv, _box_centres(pred))
+        half = (pred[:, 2:] - pred[:, :2]) / 2
+        centre = _box_centres(boxes)
+        centre = np.where(only_lo, boxes[:, 2:] - half, centre)
+        centre = np.where(only_hi, boxes[:, :2] + half, centre)
+        xy = xy + apply_homography(Hinv, centre) - apply_homography(Hinv, _box_centres(pred))
     return xy
 
 
@@ -91,7 +105,7 @@ def locate_linear(camera: PinholeCamera, boxes: np.ndarray, spec: TableSpec) -> 
     centre = _box_centres(boxes)
     top = np.column_stack([centre[:, 0], boxes[:, 1]])
     point = centre + frac * (top - centre)
-    return apply_homography(np.linalg.inv(camera.table_homography(spec.cushion_height)), point)
+    return apply_homography(np.linalg.inv(camera.table_homography(diamond_height(spec))), point)
 
 
 @dataclass(frozen=True, slots=True, eq=False)

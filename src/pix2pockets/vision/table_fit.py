@@ -13,7 +13,7 @@ The method follows the paper (section 5.1) and makes it robust to missing dots:
    table frame with its handedness reversed in pixel coordinates (``v`` down).
 3. **Corners.** Where two adjacent rails each have at least two dots, their lines intersect in a corner of
    the diamond rectangle, ``(-s, -s)`` ... ``(L + s, W + s)`` for the diamond setback ``s``, on the rail
-   cap at ``cushion_height`` (not at the cushion nose corners). The corners are validated (convex,
+   cap at :func:`diamond_height` (not at the cushion nose corners). The corners are validated (convex,
    in a plausible region around the image, consistent with the fitted table) and added to the points.
 4. **Homography and camera.** A robust homography (``cv2.USAC_MAGSAC``) from all matched points, then
    the camera (focal length, pose) from it, refined on the points at their true height
@@ -45,6 +45,17 @@ RAIL_DIAMONDS: tuple[tuple[int, ...], ...] = ((0, 1, 2, 3, 4, 5), (6, 7, 8), (9,
 MIN_DOTS = 4
 MAX_DOTS = 40  # more candidates than this are cut by confidence (false positives)
 MAX_HYPOTHESES = 2000  # rail-assignment hypotheses tried before giving up on better ones
+
+
+DIAMOND_RISE = 0.0075
+"""Height of the rail cap (where the diamonds sit) above the cushion nose [m]. Rail caps stand a few
+millimetres above the nose; 7.5 mm is the middle of the synthetic renderer's 3-12 mm range. A wrong
+height shifts located balls by about the error x tan(camera tilt), so it matters for low views."""
+
+
+def diamond_height(spec: TableSpec) -> float:
+    """Height of the diamond centres above the cloth [m]: ``cushion_height + DIAMOND_RISE``."""
+    return spec.cushion_height + DIAMOND_RISE
 
 
 class TableFitError(ValueError):
@@ -224,17 +235,37 @@ def _line_candidates(points: np.ndarray, line: np.ndarray, spec: TableSpec) -> l
 
 def _hypotheses(points: np.ndarray, line_a: np.ndarray, line_b: np.ndarray, spec: TableSpec):
     """Yield (dot indices, diamond indices) for two lines assigned to two different rails."""
-    cand_a = _line_candidates(points, line_a, spec)
-    cand_b = _line_candidates(points, line_b, spec)
-    dots = np.concatenate([line_a, line_b])
-    for ra, da in cand_a:
-        for rb, db in cand_b:
+
+    # only the end dots of each line enter the minimal 4-point homography: candidates that differ only
+    # inside a line give the same map, so they are tried once (the interior is checked by the matching)
+    def ends(line: np.ndarray) -> dict[tuple[int, int, int], None]:
+        return {(r, int(d[0]), int(d[-1])): None for r, d in _line_candidates(points, line, spec)}
+
+    cand_a, cand_b = ends(line_a), ends(line_b)
+    dots = np.array([line_a[0], line_a[-1], line_b[0], line_b[-1]])
+    for ra, a0, a1 in cand_a:
+        for rb, b0, b1 in cand_b:
             if ra != rb:
-                yield dots, np.concatenate([da, db])
+                yield dots, np.array([a0, a1, b0, b1])
 
 
 def label_dots(dots: np.ndarray, lines: list[np.ndarray], spec: TableSpec, tol_m: float | None = None) -> np.ndarray:
-    """Assign each dot a diamond index (0-17) or -1, from hypotheses on pairs of rail lines.
+    """Assign each dot a diamond index (0-17) or -1, from hypotheses on pairs of rail lines (the best one).
+
+    Raises:
+        TableFitError: when no hypothesis matches at least ``MIN_DOTS`` dots on two rails.
+    """
+    return label_candidates(dots, lines, spec, tol_m)[0]
+
+
+def label_candidates(
+    dots: np.ndarray, lines: list[np.ndarray], spec: TableSpec, tol_m: float | None = None, keep: int = 4
+) -> list[np.ndarray]:
+    """The best few distinct labellings (diamond index per dot, -1 unmatched), best first.
+
+    Few dots can leave near-ties (e.g. two dots on a short rail next to a long rail: shifted by one
+    diamond, a general homography still fits); the camera fit then decides (:func:`fit_table`).
+    Labellings that differ only by the 180-degree turn count once.
 
     Raises:
         TableFitError: when no hypothesis matches at least ``MIN_DOTS`` dots on two rails.
@@ -243,9 +274,7 @@ def label_dots(dots: np.ndarray, lines: list[np.ndarray], spec: TableSpec, tol_m
     tol_m = tol_m if tol_m is not None else 0.25 * spec.length / 8
     usable = [ln for ln in lines if len(ln) >= 2]
     best: tuple[int, float] | None = None
-    best_index: np.ndarray | None = None
-    table_rect = np.array([[0.0, 0.0], [spec.length, 0.0], [spec.length, spec.width], [0.0, spec.width]], dtype=float)
-    seen: set[tuple] = set()
+    found: dict[tuple, tuple[tuple[int, float], np.ndarray]] = {}
     pairs = sorted(
         itertools.combinations(range(len(usable)), 2),
         key=lambda ab: (-min(len(usable[ab[0]]), len(usable[ab[1]])), -len(usable[ab[0]]) - len(usable[ab[1]])),
@@ -266,16 +295,19 @@ def label_dots(dots: np.ndarray, lines: list[np.ndarray], spec: TableSpec, tol_m
             tried += 1
             if tried > MAX_HYPOTHESES:
                 break  # (the outer loop stops too, below)
-            try:
-                H = fit_homography(diamonds[diam_idx], dots[dot_idx])  # table -> image
-            except ValueError:
+            H = cv2.getPerspectiveTransform(
+                diamonds[diam_idx].astype(np.float32), dots[dot_idx].astype(np.float32)
+            )  # table -> image
+            if H is None or not np.all(np.isfinite(H)):
                 continue
-            rect_px = apply_homography(H, table_rect)
-            if not np.all(np.isfinite(rect_px)) or _signed_area(rect_px) >= 0:
-                continue  # reflected (or the table behind the camera)
-            # the table must stay on one side of the horizon: no projective wrap between the corners
-            w = np.column_stack([table_rect, np.ones(4)]) @ H[2]
+            # the hypothesis dots are seen, so in front of the camera: one sign of w for all of them; with
+            # w > 0 a camera above the table reverses handedness (det H < 0), a reflection would not
+            w = np.column_stack([diamonds[diam_idx], np.ones(len(diam_idx))]) @ H[2]
             if not (np.all(w > 0) or np.all(w < 0)):
+                continue
+            if w[0] < 0:
+                H = -H
+            if np.linalg.det(H) >= 0:
                 continue
             Hinv = _safe_inv(H)
             if Hinv is None:
@@ -294,22 +326,22 @@ def label_dots(dots: np.ndarray, lines: list[np.ndarray], spec: TableSpec, tol_m
                 if Hinv is None:
                     break
                 index, cost = _match_dots(Hinv, dots, diamonds, tol_m)
-            key_t = tuple(index)
-            if key_t in seen:
-                continue
-            seen.add(key_t)
+            turned = np.where(index >= 0, (index + 9) % 18, -1)
+            key_t = min(tuple(index), tuple(turned))
             score = (int((index >= 0).sum()), -cost)
+            if key_t not in found or score > found[key_t][0]:
+                found[key_t] = (score, index)
             if best is None or score > best:
-                best, best_index = score, index
-    if best_index is None or best is None or best[0] < MIN_DOTS:
+                best = score
+    ranked = sorted(found.values(), key=lambda si: si[0], reverse=True)
+    ranked = [(sc, ix) for sc, ix in ranked if len({_rail_of(int(j)) for j in ix[ix >= 0]}) >= 2 and sc[0] >= MIN_DOTS]
+    if not ranked:
         n = 0 if best is None else best[0]
         raise TableFitError(
             f"too few table points: {n} diamonds could be matched (need {MIN_DOTS} on at least two rails)"
         )
-    rails = {_rail_of(int(j)) for j in best_index[best_index >= 0]}
-    if len(rails) < 2:
-        raise TableFitError("too few table points: the matched diamonds lie on one rail only")
-    return best_index
+    top = ranked[0][0][0]
+    return [ix for sc, ix in ranked if sc[0] >= top - 1][:keep]
 
 
 def _safe_inv(H: np.ndarray) -> np.ndarray | None:
@@ -359,27 +391,33 @@ def _rail_corners(dots: np.ndarray, index: np.ndarray, min_angle_deg: float = 8.
     return out
 
 
-def validate_corners(corners: np.ndarray, image_size: tuple[int, int]) -> None:
-    """Check the 4 table corners [px]: exactly four finite points, in a plausible region around the
-    image (the image grown by its size on every side), forming a convex quadrilateral.
+def validate_corners(corners: np.ndarray, image_size: tuple[int, int], max_reach: float = 200.0) -> None:
+    """Check the 4 table corners [px]: those in front of the camera (finite) lie within ``max_reach``
+    image sizes of the image (a close phone shot may see the far corners well outside the frame) and,
+    when all four are in front, form a convex quadrilateral. Corners behind the camera are NaN.
 
     Raises:
         TableFitError: with the reason.
     """
     corners = np.asarray(corners, dtype=float)
-    if corners.shape != (4, 2) or not np.all(np.isfinite(corners)):
+    if corners.shape != (4, 2):
         raise TableFitError("no table found: the rails do not give four corners")
+    ok = np.all(np.isfinite(corners), axis=1)
+    if ok.sum() < 2:
+        raise TableFitError("no table found: most of the table would lie behind the camera")
     w, h = image_size
-    far = (corners[:, 0] < -w) | (corners[:, 0] > 2 * w) | (corners[:, 1] < -h) | (corners[:, 1] > 2 * h)
+    c = corners[ok]
+    far = (np.abs(c[:, 0] - w / 2) > max_reach * w) | (np.abs(c[:, 1] - h / 2) > max_reach * h)
     if far.any():
         raise TableFitError("no table found: table corners fall far outside the image")
-    cross = []
-    for i in range(4):
-        a, b, c = corners[i], corners[(i + 1) % 4], corners[(i + 2) % 4]
-        u, v = b - a, c - b
-        cross.append(u[0] * v[1] - u[1] * v[0])
-    if not (all(x < 0 for x in cross) or all(x > 0 for x in cross)):
-        raise TableFitError("no table found: the corners do not form a convex quadrilateral")
+    if ok.all():
+        cross = []
+        for i in range(4):
+            a, b, c_ = corners[i], corners[(i + 1) % 4], corners[(i + 2) % 4]
+            u, v = b - a, c_ - b
+            cross.append(u[0] * v[1] - u[1] * v[0])
+        if not (all(x < 0 for x in cross) or all(x > 0 for x in cross)):
+            raise TableFitError("no table found: the corners do not form a convex quadrilateral")
 
 
 def robust_homography(src: np.ndarray, dst: np.ndarray, thresh_px: float) -> tuple[np.ndarray, np.ndarray]:
@@ -420,6 +458,7 @@ def fit_table(
     spec: TableSpec | None = None,
     tol_px: float | None = None,
     focal_prior_px: float | None = None,
+    diamond_z: float | None = None,
 ) -> TableFit:
     """Fit the table from dot detections.
 
@@ -429,12 +468,15 @@ def fit_table(
         spec: the table (default 9-foot).
         tol_px: line inlier tolerance [px] (default: from the dot spacing and image size).
         focal_prior_px: prior focal length [px] for near-top views (default: the larger image side).
+        diamond_z: height of the diamond centres above the cloth [m] (default :func:`diamond_height`).
 
     Raises:
         TableFitError: too few dots, no consistent rails, or an implausible table.
     """
     spec = spec or TableSpec()
+    ball_centres = np.zeros((0, 2))
     if isinstance(dots, Detections):
+        ball_centres = dots[dots.is_ball].centres
         d = dots[dots.is_dot]
         order = np.argsort(-d.confidence)
         pts = d.centres[order][:MAX_DOTS]
@@ -452,8 +494,48 @@ def fit_table(
     lines = fit_rail_lines(pts, tol)
     if sum(len(x) >= 2 for x in lines) < 2:
         raise TableFitError("too few table points: diamonds on at least two rails are needed")
-    index = label_dots(pts, lines, spec)
-    h = spec.cushion_height
+    h = diamond_height(spec) if diamond_z is None else float(diamond_z)
+    fits = []
+    first_error: TableFitError | None = None
+    for index in label_candidates(pts, lines, spec):
+        try:
+            fits.append(_fit_labelled(pts, index, spec, image_size, tol, h, focal_prior_px))
+        except TableFitError as err:
+            first_error = first_error or err
+    if not fits:
+        raise first_error or TableFitError("no table found")
+    # near-ties (e.g. an L of dots around one corner: the long and short rail look alike there) are
+    # broken by the balls, which must lie on the playing surface
+    camera, index, corners, rms, n_matched = max(
+        fits, key=lambda f: (f[4], _balls_on_table(f[0], ball_centres, spec), -round(f[3], 1))
+    )
+
+    # the 180-degree convention: head rail further left / lower in the image than the foot rail
+    head_mid = camera.project_table(np.array([0.0, spec.width / 2]), h)
+    foot_mid = camera.project_table(np.array([spec.length, spec.width / 2]), h)
+    metric = (head_mid[0] - foot_mid[0]) - (head_mid[1] - foot_mid[1])
+    if metric > 0:
+        camera, index, corners = _rotate_half_turn(camera, index, corners, spec)
+
+    dot_index_full = np.full(n_total, -1)
+    dot_index_full[back] = index
+    return TableFit(spec, camera, dot_index_full, corners, rms, n_matched)
+
+
+def _fit_labelled(
+    pts: np.ndarray,
+    index: np.ndarray,
+    spec: TableSpec,
+    image_size: tuple[int, int],
+    tol: float,
+    h: float,
+    focal_prior_px: float | None,
+) -> tuple[PinholeCamera, np.ndarray, np.ndarray, float, int]:
+    """Homography, camera and validation for one labelling. Returns (camera, index, corners, rms, n).
+
+    Raises:
+        TableFitError: the labelled dots do not give a plausible table and camera.
+    """
     m = index >= 0
     world = spec.diamonds[index[m]]
     image = pts[m]
@@ -470,15 +552,32 @@ def fit_table(
     H, mask = robust_homography(world_all, image_all, thresh)
     if mask.sum() < 4:
         raise TableFitError("no table found: the diamonds do not fit a table (homography failed)")
-    world3 = np.column_stack([world_all[mask], np.full(mask.sum(), h)])
-    camera = camera_from_homography(
-        H, image_size, z=h, world_points=world3, image_points=image_all[mask], focal_prior_px=focal_prior_px
-    )
-    proj = camera.project(world3)
-    err = np.linalg.norm(proj - image_all[mask], axis=1)
+    world3_all = np.column_stack([world_all, np.full(len(world_all), h)])
+    keep = mask.copy()
+    for _ in range(6):  # refit without the worst point while it is an outlier
+        camera = camera_from_homography(
+            H,
+            image_size,
+            z=h,
+            world_points=world3_all[keep],
+            image_points=image_all[keep],
+            focal_prior_px=focal_prior_px,
+        )
+        err_all = np.linalg.norm(camera.project(world3_all) - image_all, axis=1)
+        err_all = np.where(np.isfinite(err_all), err_all, np.inf)
+        limit = max(3.0, 3 * 1.4826 * float(np.median(err_all[keep])))
+        worst = int(np.argmax(np.where(keep, err_all, -1.0)))
+        if err_all[worst] <= limit or keep.sum() <= 7:
+            break
+        keep[worst] = False
+    err = err_all[keep]
     rms = float(np.sqrt(np.mean(err**2)))
     if not np.isfinite(rms) or rms > max(4.0, tol):
         raise TableFitError(f"no table found: the diamonds do not fit a {spec.name} table (error {rms:.1f} px)")
+    dot_rows = np.flatnonzero(m)
+    index = index.copy()
+    index[dot_rows[~keep[: len(dot_rows)]]] = -1
+    m = index >= 0
     n_matched = int(m.sum())
     if n_matched < max(MIN_DOTS, 0.5 * len(pts)):
         raise TableFitError(
@@ -487,17 +586,18 @@ def fit_table(
     if camera.position[2] < spec.cushion_height + 0.2:
         raise TableFitError("no table found: the fitted camera is not above the table")
     validate_corners(camera.project_table(rect, h), image_size)
+    if not 0.25 * max(image_size) < camera.focal_px < 6 * max(image_size):
+        raise TableFitError(f"no table found: implausible camera (focal length {camera.focal_px:.0f} px)")
 
-    # the 180-degree convention: head rail further left / lower in the image than the foot rail
-    head_mid = camera.project_table(np.array([0.0, spec.width / 2]), h)
-    foot_mid = camera.project_table(np.array([spec.length, spec.width / 2]), h)
-    metric = (head_mid[0] - foot_mid[0]) - (head_mid[1] - foot_mid[1])
-    if metric > 0:
-        camera, index, corners = _rotate_half_turn(camera, index, corners, spec)
+    return camera, index, corners, rms, n_matched
 
-    dot_index_full = np.full(n_total, -1)
-    dot_index_full[back] = index
-    return TableFit(spec, camera, dot_index_full, corners, rms, n_matched)
+
+def _balls_on_table(camera: PinholeCamera, centres_px: np.ndarray, spec: TableSpec) -> int:
+    """How many ball box centres [px] map onto the playing surface (ball-centre height)."""
+    if len(centres_px) == 0:
+        return 0
+    xy = apply_homography(np.linalg.inv(camera.table_homography(spec.ball_radius)), centres_px)
+    return int(np.sum(np.all(np.isfinite(xy), axis=1) & spec.contains(np.nan_to_num(xy, nan=-1.0))))
 
 
 def _rotate_half_turn(

@@ -7,6 +7,7 @@ index))``, so a resumed run sees the same samples as an uninterrupted one.
 
 from __future__ import annotations
 
+import fnmatch
 import json
 import math
 import os
@@ -36,6 +37,8 @@ class TrainConfig:
     Attributes:
         data: YOLO datasets with the five classes (their ``train`` split is used).
         balls: ball-only YOLO datasets (e.g. real photos); class ``balls_class`` is "ball", others ignored.
+        balls_exclude: file-name glob patterns of ball-only images to leave out (e.g. frames of the video
+            that the validation photos come from).
         out: output folder (checkpoints, log, ONNX).
         epochs: passes over the five-class training images.
         seed: the one seed for initialisation, order and augmentation.
@@ -55,6 +58,7 @@ class TrainConfig:
     out: str
     balls: tuple[str, ...] = ()
     balls_class: int = 0
+    balls_exclude: tuple[str, ...] = ()
     epochs: int = 10
     seed: int = 0
     batch: int = 8
@@ -89,7 +93,12 @@ def _load_sources(cfg: TrainConfig) -> tuple[list[tuple[LabelledImage, dict[int,
         main += [(it, cmap) for it in load_split(root, "train")]
     if cfg.limit is not None:
         main = main[: cfg.limit]
-    balls = [it for root in cfg.balls for it in load_split(root, "train")]
+    balls = [
+        it
+        for root in cfg.balls
+        for it in load_split(root, "train")
+        if not any(fnmatch.fnmatch(it.image_path.name, pat) for pat in cfg.balls_exclude)
+    ]
     return main, balls
 
 
@@ -137,6 +146,14 @@ def export_onnx(model: CenterNet, path: Path, example_hw: tuple[int, int] = (384
         )
     os.replace(tmp, path)
     return path
+
+
+def export_checkpoint(checkpoint: str | Path, onnx_path: str | Path) -> Path:
+    """Export the model of a ``last.pt`` checkpoint to ONNX (e.g. while training still runs)."""
+    state = torch.load(checkpoint, map_location="cpu", weights_only=False)
+    model = CenterNet(pretrained=False)
+    model.load_state_dict(state["model"])
+    return export_onnx(model.eval(), Path(onnx_path))
 
 
 def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path:
@@ -273,6 +290,6 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
 
 def _comparable(cfg: TrainConfig) -> dict:
     d = asdict(cfg)
-    d["data"], d["balls"] = list(cfg.data), list(cfg.balls)
+    d["data"], d["balls"], d["balls_exclude"] = list(cfg.data), list(cfg.balls), list(cfg.balls_exclude)
     d["augment"] = {k: list(v) if isinstance(v, tuple) else v for k, v in d["augment"].items()}
     return d

@@ -1,0 +1,37 @@
+"""Make one YOLO dataset view (symlinks) of the same split of several datasets, e.g. synthetic chunks.
+
+Usage:
+    python scripts/merge_yolo_splits.py OUT SPLIT DATASET [DATASET ...]
+"""
+
+from __future__ import annotations
+
+import shutil
+import sys
+from pathlib import Path
+
+
+def main() -> None:
+    if len(sys.argv) < 4:
+        sys.exit(__doc__)
+    out, split, sources = Path(sys.argv[1]), sys.argv[2], [Path(p) for p in sys.argv[3:]]
+    if out.exists():
+        shutil.rmtree(out)
+    for sub in ("images", "labels", "meta"):
+        (out / split / sub).mkdir(parents=True)
+    n = 0
+    for src in sources:
+        if (src / "data.yaml").exists() and not (out / "data.yaml").exists():
+            shutil.copy(src / "data.yaml", out / "data.yaml")
+        for sub in ("images", "labels", "meta"):
+            folder = src / split / sub
+            if not folder.is_dir():
+                continue
+            for f in folder.iterdir():
+                (out / split / sub / f.name).symlink_to(f.resolve())
+                n += sub == "images"
+    print(f"{out}: {n} images in {split} from {len(sources)} datasets")
+
+
+if __name__ == "__main__":
+    main()

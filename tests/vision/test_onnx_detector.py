@@ -1,0 +1,42 @@
+"""The committed ONNX detector loads and finds balls on a freshly rendered synthetic image."""
+
+import numpy as np
+import pytest
+
+from pix2pockets.vision.base import Detector
+from pix2pockets.vision.onnx_detector import OnnxDetector, OnnxDetectorConfig, default_model_path
+from pix2pockets.vision.postprocess import box_iou, postprocess
+
+pytestmark = pytest.mark.skipif(
+    not default_model_path().exists(), reason="no trained detector committed at data/models/detector.onnx yet"
+)
+
+
+def _render(seed, size):
+    try:
+        from pix2pockets.synth.renderer import render
+    except ImportError:
+        from pix2pockets.synth.render import render
+    return render(seed, size)
+
+
+def test_model_loads_and_is_a_detector():
+    det = OnnxDetector.from_default(OnnxDetectorConfig(threads=1))
+    assert isinstance(det, Detector)
+    assert len(det.detect(np.zeros((90, 160, 3), np.uint8))) < 20  # a black image holds few objects
+
+
+def test_detects_balls_on_fresh_render():
+    pytest.importorskip("pix2pockets.synth")
+    rend = _render((4242, 0), (640, 360))
+    balls = [b for b in rend.labels["balls"] if b["labelled"] and b["visible_fraction"] > 0.8]
+    if len(balls) < 3:
+        pytest.skip("render holds fewer than 3 clearly visible balls")
+    gt = np.array([b["box_px"] for b in balls], float)
+    det = postprocess(OnnxDetector.from_default().detect(rend.image))
+    found = det[det.is_ball & (det.confidence > 0.3)]
+    assert len(found) > 0
+    hit = box_iou(gt, found.boxes).max(axis=1) > 0.3
+    assert hit.mean() >= 0.6, f"found {hit.sum()} of {len(gt)} balls"
+    ok = np.isfinite(found.contact).all(axis=1)
+    assert ok.any()
