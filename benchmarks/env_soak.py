@@ -77,15 +77,17 @@ def main(argv: list[str] | None = None) -> int:
             kw = {"aim_noise_deg": 0.5, "speed_noise": 0.1} if noisy else {}
             if args.physics:
                 kw["physics"] = args.physics
-            env = PoolEnv(balls=balls, action_type=action_type, mode=mode, **kw)
+            env = PoolEnv(balls=balls, action_type=action_type, mode=mode, sim_errors="raise", **kw)
             env.reset(seed=int(rng.integers(2**31)))
             env.action_space.seed(int(rng.integers(2**31)))
             envs[key] = env
         env = envs[key]
         for _ in range(min(args.chunk, args.steps - step)):
             step += 1
+            action = env.action_space.sample()
+            before = env.unwrapped.layout
             try:
-                obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+                obs, reward, terminated, truncated, info = env.step(action)
                 problem = None
                 if not np.all(np.isfinite(obs)) or not env.observation_space.contains(obs):
                     problem = "observation outside the space"
@@ -102,7 +104,10 @@ def main(argv: list[str] | None = None) -> int:
             except Exception as err:  # a soak test counts every failure and keeps going
                 counts["failures"] += 1
                 if len(failures) < 20:
-                    failures.append(f"{key}: {err!r}\n{traceback.format_exc(limit=3)}")
+                    repro = {"numbers": [b.number for b in before.balls], "positions": before.positions.tolist()}
+                    repro["action"] = np.asarray(action).tolist()
+                    trace = traceback.format_exc(limit=3)
+                    failures.append(f"{key}: {err!r}\nrepro (exact floats): {json.dumps(repro)}\n{trace}")
                 env.reset()
             counts["steps"] = step
             if step % args.progress == 0:

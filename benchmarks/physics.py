@@ -166,7 +166,7 @@ def main(argv: list[str] | None = None) -> int:
         for backend in backends:
             results["backends"][backend][scenario] = bench(backend, scenario, cases, args.max_seconds)
     if "event" in backends and not args.no_cold:
-        results["backends"]["event"]["warmup"] = cold_start()
+        results["warmup"] = {"event": cold_start()}
     if "event" in backends and "pymunk" in backends:
         ratios = {}
         for scenario in args.scenarios:
@@ -196,8 +196,8 @@ def main(argv: list[str] | None = None) -> int:
     if "event_over_pymunk" in results:
         for scenario, ratio in results["event_over_pymunk"].items():
             print(f"event / pymunk on {scenario}: {ratio}")
-    if "event" in results["backends"] and "warmup" in results["backends"]["event"]:
-        print(f"event warm-up: {results['backends']['event']['warmup']}")
+    if "warmup" in results:
+        print(f"event warm-up (fresh processes): {results['warmup']['event']}")
     if args.json:
         tmp = args.json.with_name(args.json.name + ".tmp")
         tmp.write_text(json.dumps(results, indent=2) + "\n")

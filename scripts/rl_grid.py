@@ -92,11 +92,9 @@ def model_steps(path: Path) -> int:
 
 
 def agent_file(run_dir: Path) -> Path | None:
-    """The run's final agent, else its latest checkpoint (a run cut short), else ``None``."""
-    for name in ("model.zip", "checkpoint.zip"):
-        if (run_dir / name).exists():
-            return run_dir / name
-    return None
+    """The run's agent with the most steps: ``model.zip``, or ``checkpoint.zip`` of a run cut short."""
+    files = [run_dir / name for name in ("model.zip", "checkpoint.zip") if (run_dir / name).exists()]
+    return max(files, key=model_steps) if files else None
 
 
 def do_train(args: argparse.Namespace) -> None:
@@ -143,6 +141,32 @@ def do_evaluate(args: argparse.Namespace) -> None:
                 "--json",
                 str(out),
             )
+    for env in ENVS if not args.env else args.env:
+        for mask in ("direct", "mirror") if args.masked_random else ():
+            for maxp in (False, True):
+                name = f"{env}-random-{mask}" + ("-maxp" if maxp else "")
+                out = root / name / "eval.json"
+                if out.exists():
+                    continue
+                out.parent.mkdir(parents=True, exist_ok=True)
+                extra = ["--max-power"] if maxp else []
+                cli(
+                    "rl",
+                    "evaluate",
+                    "--policy",
+                    "random",
+                    "--env",
+                    env,
+                    "--mask",
+                    mask,
+                    *extra,
+                    "--episodes",
+                    str(args.episodes),
+                    "--seed",
+                    str(args.eval_seed),
+                    "--json",
+                    str(out),
+                )
     for run in select(args):
         model = agent_file(root / run.name)
         out = root / run.name / "eval.json"
@@ -187,8 +211,11 @@ def do_table(args: argparse.Namespace) -> None:
         cells = [f"{_ours(root, f'{env}-{c}')} \\| {PAPER_T2[env][c]:g}" for c in cols]
         print(f"| {ENV_ROWS[env]} | " + " | ".join(cells) + " |")
     print("\nTable 3: MaskablePPO success rate per shot [%], direct \\| mirror; ours / paper\n")
-    print("| Env | PPO_mask ours | PPO_mask paper | PPO_mask(max power) ours | PPO_mask(max power) paper |")
-    print("|---|---|---|---|---|")
+    print(
+        "| Env | PPO_mask ours | PPO_mask paper | PPO_mask(max power) ours | PPO_mask(max power) paper "
+        "| uniform over mask (ours) | uniform over mask, max power (ours) |"
+    )
+    print("|---|---|---|---|---|---|---|")
     for env, key in (*((e, "shot_success") for e in ENVS), ("all", "full_turn")):
         row = "Full turn (all-ball)" if key == "full_turn" else ENV_ROWS[env]
         paper_key = "turn" if key == "full_turn" else env
@@ -197,7 +224,33 @@ def do_table(args: argparse.Namespace) -> None:
             ours = " \\| ".join(_ours(root, f"{env}-maskable-ppo-{m}{suffix}", key) for m in ("direct", "mirror"))
             d, m = PAPER_T3[paper_key][pk]
             cells += [ours, f"{d:g} \\| {m:g}"]
+        for suffix in ("", "-maxp"):
+            cells.append(" \\| ".join(_ours(root, f"{env}-random-{m}{suffix}", key) for m in ("direct", "mirror")))
         print(f"| {row} | " + " | ".join(cells) + " |")
+
+
+def do_details(args: argparse.Namespace) -> None:
+    """Every evaluated run with its intervals (ours only)."""
+    root = Path(args.root)
+    print("| run | trained steps | episodes | success per shot [95% CI] | first shot | full turn |")
+    print("|---|---|---|---|---|---|")
+
+    def fmt(r: dict) -> str:
+        lo, hi = r["ci95"]
+        return f"{100 * r['rate']:.1f} [{100 * lo:.1f}, {100 * hi:.1f}]"
+
+    names = [f"{env}-random" for env in ENVS] + [r.name for r in select(args)]
+    names += [f"{e}-random-{m}{x}" for e in ENVS for x in ("", "-maxp") for m in ("direct", "mirror")]
+    for name in names:
+        path = root / name / "eval.json"
+        if not path.exists():
+            continue
+        d = json.loads(path.read_text())
+        steps = "-" if d["trained_steps"] is None else str(d["trained_steps"])
+        print(
+            f"| {name} | {steps} | {d['episodes']} | {fmt(d['shot_success'])} ({d['shot_success']['trials']} shots)"
+            f" | {fmt(d['first_shot_success'])} | {fmt(d['full_turn'])} |"
+        )
 
 
 def do_plot(args: argparse.Namespace) -> None:
@@ -229,7 +282,7 @@ def do_list(args: argparse.Namespace) -> None:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description="The paper's RL grid: train / evaluate / table / plot.")
-    parser.add_argument("action", choices=("list", "train", "evaluate", "table", "plot", "speeds"))
+    parser.add_argument("action", choices=("list", "train", "evaluate", "table", "plot", "speeds", "details"))
     parser.add_argument("--root", default="runs/rl")
     parser.add_argument("--env", nargs="+", choices=ENVS)
     parser.add_argument("--only", nargs="+", help="run names (see list)")
@@ -238,11 +291,18 @@ def main() -> None:
     parser.add_argument("--checkpoint-every", type=int, default=10_000)
     parser.add_argument("--episodes", type=int, default=1000)
     parser.add_argument("--eval-seed", type=int, default=12345)
+    parser.add_argument(
+        "--masked-random",
+        action=argparse.BooleanOptionalAction,
+        default=True,
+        help="also evaluate uniform-random play over each hitpoint mask (Table 3's untrained reference)",
+    )
     parser.add_argument("--out", default="docs/rl_learning_curves.png")
     parser.add_argument("--window", type=int, default=2000)
     args = parser.parse_args()
     actions = {"list": do_list, "train": do_train, "evaluate": do_evaluate, "table": do_table, "plot": do_plot}
     actions["speeds"] = do_speeds
+    actions["details"] = do_details
     actions[args.action](args)
 
 

@@ -209,3 +209,28 @@ def test_custom_reward_fn() -> None:
     env.reset(seed=0, options={"layout": _straight_in_layout()})
     _, reward, *_ = env.step(_aim(env, (0.6, 0.6), (0.3, 0.3)))
     assert reward == 7.0
+
+
+class _FailingSim:
+    name = "failing"
+
+    def simulate(self, layout, shot, stop=None):
+        raise RuntimeError("shot exceeded 10 events")
+
+    def simulate_batch(self, layout, shots, stop=None):
+        return [self.simulate(layout, s) for s in shots]
+
+
+def test_simulation_failure_truncates_or_raises() -> None:
+    env = PoolEnv(balls="two", physics=_FailingSim())
+    obs, _ = env.reset(seed=0)
+    with pytest.warns(UserWarning, match="truncated"):
+        obs2, reward, terminated, truncated, info = env.step(np.array([0, 0]))
+    assert truncated and not terminated and reward == 0.0
+    assert "exceeded" in info["sim_error"] and np.array_equal(obs, obs2)
+    strict = PoolEnv(balls="two", physics=_FailingSim(), sim_errors="raise")
+    strict.reset(seed=0)
+    with pytest.raises(RuntimeError, match="exceeded"):
+        strict.step(np.array([0, 0]))
+    with pytest.raises(ValueError, match="sim_errors"):
+        PoolEnv(balls="two", physics=_FailingSim(), sim_errors="ignore")

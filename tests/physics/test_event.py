@@ -22,7 +22,7 @@ from pix2pockets.state import EventType, Shot, eight_ball_rack, random_layout
 from .conftest import SPEC, R, layout_of, straight_in_layout
 
 PARAMS = PhysicsParams()
-PRM = PARAMS.packed(R)
+PRM = PARAMS.packed(R, SPEC.cushion_height)
 G = PARAMS.g
 
 
@@ -161,15 +161,35 @@ def test_ball_collision_conserves_momentum_and_loses_energy():
 
 def test_cushion_collision_loses_energy_and_reflects():
     rng = np.random.default_rng(1)
-    for _ in range(200):
+    for _ in range(300):
         vel = rng.normal(0, 2, (1, 2))
         w = rng.normal(0, 50, (1, 3))
         vel[0, 1] = -abs(vel[0, 1]) - 0.01  # into the bottom cushion, normal (0, 1)
         e_before = kinetic_energy(1, vel, w, np.array([2]), PRM)
-        vn = vel[0, 1]
         collide_cushion(0, 0.0, 1.0, vel, w, PRM)
         assert kinetic_energy(1, vel, w, np.array([2]), PRM) <= e_before + 1e-12
-        assert vel[0, 1] == pytest.approx(-PARAMS.e_cushion * vn, rel=1e-9)
+        assert vel[0, 1] > 0.0
+
+
+def test_cushion_restitution_along_the_tilted_normal():
+    # No spin, no friction: the impulse acts along the contact normal, tilted by the cushion height.
+    prm = PhysicsParams(mu_cushion=0.0).packed(R, SPEC.cushion_height)
+    sin_tilt = (SPEC.cushion_height - R) / R
+    vel, w = np.array([[0.3, -1.0]]), np.zeros((1, 3))
+    collide_cushion(0, 0.0, 1.0, vel, w, prm)
+    assert vel[0, 1] == pytest.approx(-1.0 + (1 + PARAMS.e_cushion) * (1 - sin_tilt**2), rel=1e-12)
+    assert vel[0, 0] == pytest.approx(0.3)
+    equator = PhysicsParams(mu_cushion=0.0).packed(R)
+    vel = np.array([[0.3, -1.0]])
+    collide_cushion(0, 0.0, 1.0, vel, np.zeros((1, 3)), equator)
+    assert vel[0, 1] == pytest.approx(PARAMS.e_cushion)
+
+
+def test_rolling_ball_loses_topspin_at_the_rail():
+    vel = np.array([[0.0, -1.0]])
+    w = np.array([[1.0 / R, 0.0, 0.0]])  # rolling toward -y: w = z x v / R
+    collide_cushion(0, 0.0, 1.0, vel, w, PRM)
+    assert abs(w[0, 0]) < 1.0 / R
 
 
 # ----------------------------------------------------------------------------- events and stops

@@ -13,7 +13,7 @@ from pix2pockets.planner.evaluation import (
     sample_environment,
     wilson_interval,
 )
-from pix2pockets.planner.experiments import ball_shift, shifted
+from pix2pockets.planner.experiments import ball_shift, cue_pot_precision, shifted
 from pix2pockets.planner.oracle import OracleConfig, OraclePlanner
 from pix2pockets.rules import GameState
 from pix2pockets.state import Group
@@ -57,6 +57,12 @@ def test_ball_shift(sim):
     assert set(rates) == {"none", "shift1", "shift2"} and all(r.trials == 4 for r in rates.values())
 
 
+def test_cue_pot_precision(sim):
+    rates = cue_pot_precision(sim.simulate, sigmas_deg=(0.0, 5.0), layouts=10)
+    assert rates[0.0].value >= 0.9  # aimed at a clear pocket window without noise: it drops
+    assert rates[5.0].trials == 10
+
+
 def test_evaluate_planner_cli(tmp_path, capsys):
     out = tmp_path / "res.json"
     code = main(["evaluate", "planner", "--planner", "oracle", "--balls", "2", "--layouts", "3", "--json", str(out),
@@ -83,6 +89,8 @@ def test_evaluate_planner_cli_errors(argv, capsys):
 
 def test_experiment_cli(capsys):
     assert main(["experiment", "aim-precision", "--layouts", "2", "--sigmas", "0", "1", "--balls", "1"]) == 0
-    assert "oracle 1-ball" in capsys.readouterr().out
+    assert "1-ball (pot the cue ball)" in capsys.readouterr().out
+    assert main(["experiment", "aim-precision", "--layouts", "2", "--sigmas", "0", "--balls", "2"]) == 0
+    assert "oracle 2-ball" in capsys.readouterr().out
     assert main(["experiment", "ball-shift", "--layouts", "2", "--planners", "oracle"]) == 0
     assert "shift-2" in capsys.readouterr().out

@@ -178,3 +178,10 @@ def test_export_slim_agent_loads_and_acts_alike(env_id, tmp_path):
     assert abs(full.shot_success.rate - small.shot_success.rate) <= 0.2
     with pytest.raises(ValueError, match="differ"):
         slim_agent(path, path)
+
+
+def test_random_masked_baseline_uses_the_mask(env_id):
+    result = evaluate_random(EnvChoice(env_id, mask="direct"), episodes=20, seed=0)
+    # The stand-in's mask allows only successful directions.
+    assert result.policy == "random-masked"
+    assert result.shot_success.rate == 1.0

@@ -70,3 +70,14 @@ def test_max_power_mask_keeps_directions_and_only_top_power():
 def test_rl_modules_present_in_this_venv():
     # CI installs the rl extra; if this fails the extra is missing there.
     assert missing_rl_modules() == []
+
+
+def test_masked_sample_stays_inside_the_mask():
+    from pix2pockets.rl.evaluate import masked_sample
+
+    rng = np.random.default_rng(0)
+    mask = np.zeros(10 + 3, dtype=bool)
+    mask[[2, 7]] = True
+    mask[12] = True
+    draws = {tuple(masked_sample(mask, np.array([10, 3]), rng)) for _ in range(50)}
+    assert draws == {(2, 2), (7, 2)}

@@ -50,3 +50,18 @@ def test_decode_bytes_matches_file_reading(tmp_path):
 def test_decode_bytes_errors(data, match):
     with pytest.raises(ValueError, match=match):
         decode_image_rgb(data, "photo.png")
+
+
+def test_exif_orientation_is_applied():
+    import io
+
+    pixels = np.zeros((2, 3, 3), np.uint8)
+    pixels[0, 0] = 255  # top-left marker in the stored (sideways) image
+    im = Image.fromarray(pixels)
+    exif = im.getexif()
+    exif[0x0112] = 6  # "rotate 90 degrees clockwise to display"
+    buf = io.BytesIO()
+    im.save(buf, format="PNG", exif=exif)
+    rgb = decode_image_rgb(buf.getvalue())
+    assert rgb.shape == (3, 2, 3)
+    assert rgb[0, 1, 0] == 255  # the marker moved to the top-right corner

@@ -1,23 +1,22 @@
-"""A rendered photo with exact labels and a detector that returns them, for fast deterministic web tests."""
+"""The bundled example photo with its exact labels, and a detector that returns them (fast, deterministic)."""
 
 from __future__ import annotations
 
-import io
+import json
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pytest
 
+from pix2pockets.cli.suggest_cmd import example_photo_path
 from pix2pockets.vision.classes import CLASS_NAMES, DOT_ID
 from pix2pockets.vision.detections import Detections
-
-SEED = 8  # a 9-foot table seen from above, with solids, stripes, the 8-ball and the cue ball
-SIZE = (640, 360)
 
 
 @dataclass
 class LabelsDetector:
-    """Returns the labelled balls and diamonds of a synth render, minus the classes in ``drop``."""
+    """Returns the labelled balls and diamonds of a synth render (its label dict), minus the classes in ``drop``."""
 
     labels: dict
     drop: tuple[str, ...] = ()
@@ -32,12 +31,9 @@ class LabelsDetector:
 
 @pytest.fixture(scope="session")
 def rendered():
-    """(PNG bytes, labels) of one synthetic photo."""
-    from PIL import Image
-
-    from pix2pockets.synth import render
-
-    out = render(SEED, SIZE, camera_kind="top")
-    buf = io.BytesIO()
-    Image.fromarray(out.image).save(buf, format="PNG")
-    return buf.getvalue(), out.labels
+    """(file bytes, labels) of the bundled example photo (a pix2pockets.synth render)."""
+    photo = Path(example_photo_path())
+    labels = photo.with_name(photo.stem + ".labels.json")
+    if not (photo.is_file() and labels.is_file()):
+        pytest.skip("the bundled example photo or its labels are missing from this build")
+    return photo.read_bytes(), json.loads(labels.read_text())

@@ -12,10 +12,11 @@ pytest.importorskip("python_multipart")
 from fastapi.testclient import TestClient
 
 from pix2pockets.pipeline import photo
+from pix2pockets.vision.image_io import decode_image_rgb
 from pix2pockets.web.app import create_app
 
 from ..pipeline.standins import NearestPocketPlanner
-from .conftest import SIZE, LabelsDetector
+from .conftest import LabelsDetector
 
 
 def client_for(labels, drop=(), **kwargs) -> TestClient:
@@ -53,32 +54,35 @@ def test_health(rendered):
 @pytest.mark.parametrize("group", ["auto", "stripes", "solids"])
 def test_good_photo_gives_issue_8_json_and_picture(rendered, group):
     data, labels = rendered
-    r = post(client_for(labels), data, group)
+    r = post(client_for(labels), data, group, name="table.jpg")
     assert r.status_code == 200, r.text
     doc = r.json()
-    assert doc["image"] == {"width": SIZE[0], "height": SIZE[1], "filename": "table.png"}
+    width, height = labels["image_size"]
+    assert doc["image"] == {"width": width, "height": height, "filename": "table.jpg"}
     assert len(doc["table"]["corners_px"]) == 4 and np.array(doc["table"]["homography"]).shape == (3, 3)
-    n_balls = sum(b["labelled"] for b in labels["balls"])
-    assert n_balls - 1 <= len(doc["balls"]) <= n_balls  # a ball in a pocket's jaws may be dropped
+    truth = np.array([b["centre_table_m"][:2] for b in labels["balls"] if b["labelled"]])
+    assert len(truth) - 2 <= len(doc["balls"]) <= len(truth)  # balls frozen on a cushion may be dropped
     assert {"class", "confidence", "bbox_px", "contact_px", "table_xy_m"} <= set(doc["balls"][0])
     s = doc["suggestion"]
     assert set(s) >= {"target_ball", "pocket", "kind", "cue_angle_deg", "speed_mps", "power_level"}
-    assert {"success_probability"} <= set(s) and 1 <= s["power_level"] <= 30
+    assert "success_probability" in s and 1 <= s["power_level"] <= 30
     if group != "auto":
         assert s["group"] == group and doc["balls"][s["target_ball"]]["class"] in (group[:-1], "black")
-    assert "pocket" in doc["text"]
-    # the balls are where the renderer put them (table frame, metres)
-    truth = np.array([b["centre_table_m"][:2] for b in labels["balls"] if b["labelled"]])
+    assert "pocket" in doc["text"] and set(doc["timings_s"]) >= {"detect", "plan", "total"}
+    # the balls are where the renderer put them (table frame [m]; a photo cannot tell the table's two ends
+    # apart, so the located frame may be the true one turned by 180 degrees)
     got = np.array([b["table_xy_m"] for b in doc["balls"]])
-    assert np.linalg.norm(got[:, None] - truth[None], axis=2).min(axis=1).max() < 0.02
+    size = np.array([labels["table"]["length_m"], labels["table"]["width_m"]])
+    err = min(np.linalg.norm(got[:, None] - t[None], axis=2).min(axis=1).max() for t in (truth, size - truth))
+    assert err < 0.02
     picture = Image.open(io.BytesIO(base64.b64decode(doc["picture_png_base64"])))
-    assert picture.format == "PNG" and picture.width > SIZE[0]
+    assert picture.format == "PNG" and picture.width > width
 
 
 def test_same_answer_as_the_python_api(rendered):
     data, labels = rendered
     doc = post(client_for(labels), data, "solids").json()
-    rgb = np.asarray(Image.open(io.BytesIO(data)).convert("RGB"))
+    rgb = photo.load_image(decode_image_rgb(data))
     want = photo.suggest(rgb, "solids", LabelsDetector(labels), NearestPocketPlanner()).to_dict()
     doc["image"].pop("filename")
     assert {k: doc[k] for k in want} == json.loads(json.dumps(want))
@@ -212,6 +216,9 @@ def test_example_photo(rendered, tmp_path):
     (tmp_path / "ex.png").write_bytes(data)
     r = client_for(labels, example_photo=tmp_path / "ex.png").get("/api/example")
     assert r.status_code == 200 and r.content == data
+    c = client_for(labels)  # the bundled example
+    assert c.get("/api/health").json()["example"] is True
+    assert c.get("/api/example").content == data
 
 
 def test_unknown_routes_and_methods_answer_json(rendered):
@@ -225,3 +232,23 @@ def test_unknown_routes_and_methods_answer_json(rendered):
 def test_bad_limits():
     with pytest.raises(ValueError, match="positive"):
         create_app(max_upload_bytes=0)
+
+
+def test_long_messages_are_one_short_line(rendered):
+    class Chatty:
+        def detect(self, image_rgb):
+            raise RuntimeError("line one\nline two " + "x" * 2000)
+
+    err = post(TestClient(create_app(Chatty(), NearestPocketPlanner())), rendered[0]).json()["error"]
+    assert err.startswith("internal error: RuntimeError: line one line two") and len(err) <= 500
+
+
+def test_unexpected_errors_outside_the_pipeline_answer_json(rendered, monkeypatch):
+    from pix2pockets.web import app as web_app
+
+    def broken(upload):
+        raise KeyError("oops")
+
+    monkeypatch.setattr(web_app, "_upload_name", broken)
+    r = post(TestClient(create_app(LabelsDetector(rendered[1])), raise_server_exceptions=False), rendered[0])
+    assert r.status_code == 500 and r.json() == {"error": "internal error: KeyError"}

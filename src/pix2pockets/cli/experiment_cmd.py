@@ -11,7 +11,14 @@ import json
 import os
 from pathlib import Path
 
-from pix2pockets.planner.experiments import PAPER_SHIFT1, PAPER_SHIFT2, PAPER_SIGMAS_DEG, aim_precision, ball_shift
+from pix2pockets.planner.experiments import (
+    PAPER_SHIFT1,
+    PAPER_SHIFT2,
+    PAPER_SIGMAS_DEG,
+    aim_precision,
+    ball_shift,
+    cue_pot_precision,
+)
 from pix2pockets.planner.registry import PLANNER_NAMES, make_planner
 
 
@@ -20,9 +27,18 @@ def register(sub: argparse._SubParsersAction) -> None:
     exps = parser.add_subparsers(dest="experiment", metavar="EXPERIMENT")
 
     aim = exps.add_parser("aim-precision", help="one-shot success vs aim noise sigma (paper Fig. 4b)")
-    aim.add_argument("--planners", nargs="+", default=["oracle"], choices=PLANNER_NAMES, help="(oracle)")
+    aim.add_argument(
+        "--planners", nargs="+", default=["oracle"], choices=PLANNER_NAMES, help="planners for 2-ball (oracle)"
+    )
     aim.add_argument("--sigmas", nargs="+", type=float, default=list(PAPER_SIGMAS_DEG), help="degrees")
-    aim.add_argument("--balls", nargs="+", type=int, default=[1, 2], choices=[1, 2], help="environments (1 2)")
+    aim.add_argument(
+        "--balls",
+        nargs="+",
+        type=int,
+        default=[1, 2],
+        choices=[1, 2],
+        help="1: pot the lone cue ball (paper); 2: cue + 8 (1 2)",
+    )
     _common(aim)
     aim.set_defaults(func=run_aim)
 
@@ -66,21 +82,20 @@ def run_aim(args: argparse.Namespace) -> int:
     out = _check(args)
     sim = make_simulator(args.physics)
     rows = {}
-    for name in args.planners:
-        for balls in args.balls:
+    if 1 in args.balls:  # the paper's 1-ball: pot the lone cue ball (no planner involved)
+        rows["1-ball (pot the cue ball)"] = cue_pot_precision(sim.simulate, args.sigmas, args.layouts, args.seed)
+    for name in args.planners if 2 in args.balls else ():
 
-            def make(sigma: float, name: str = name):
-                noise = f"aim:{sigma:g}" if sigma > 0 else "fastfiz"
-                return make_planner(name, physics=args.physics, noise=noise, time_budget=None)
+        def make(sigma: float, name: str = name):
+            noise = f"aim:{sigma:g}" if sigma > 0 else "fastfiz"
+            return make_planner(name, physics=args.physics, noise=noise, time_budget=None)
 
-            rows[f"{name} {balls}-ball"] = aim_precision(
-                make, sim.simulate, balls, args.sigmas, args.layouts, args.seed
-            )
-    header = "planner / env".ljust(26) + "".join(f"{s:>8g}" for s in args.sigmas)
+        rows[f"{name} 2-ball"] = aim_precision(make, sim.simulate, 2, args.sigmas, args.layouts, args.seed)
+    header = "planner / env".ljust(28) + "".join(f"{s:>8g}" for s in args.sigmas)
     print(f"one-shot success vs aim sigma [deg], {args.layouts} layouts each, physics {args.physics}")
     print(header)
     for key, rates in rows.items():
-        print(key.ljust(26) + "".join(f"{rates[float(s)].value:8.3f}" for s in args.sigmas))
+        print(key.ljust(28) + "".join(f"{rates[float(s)].value:8.3f}" for s in args.sigmas))
     _write(out, {k: {str(s): r.to_dict() for s, r in v.items()} for k, v in rows.items()} | {"layouts": args.layouts})
     return 0
 

@@ -32,6 +32,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     ev.add_argument("--model", help="agent file (model.zip / checkpoint.zip from `rl train`)")
     ev.add_argument("--policy", choices=("model", "random"), default="model", help="random: uniform baseline")
     ev.add_argument("--env", help=f"with --policy random: {ENV_HELP}")
+    ev.add_argument("--mask", choices=("direct", "mirror"), help="with --policy random: uniform among masked actions")
+    ev.add_argument("--max-power", action="store_true", help="with --policy random --mask: strongest power only")
     ev.add_argument("--episodes", type=int, default=1000)
     ev.add_argument("--seed", type=int, default=12345, help="seed of the evaluation layouts (not a training seed)")
     ev.add_argument("--json", metavar="OUT.json", help="write the numbers as JSON")
@@ -90,8 +92,12 @@ def run_evaluate(args: argparse.Namespace) -> int:
     if args.policy == "random":
         if not args.env:
             raise ValueError("--policy random needs --env")
-        result = evaluate_random(EnvChoice(env=args.env), args.episodes, args.seed)
+        result = evaluate_random(
+            EnvChoice(env=args.env, mask=args.mask, max_power=args.max_power), args.episodes, args.seed
+        )
     else:
+        if args.mask or args.max_power:
+            raise ValueError("--mask / --max-power apply to --policy random; an agent file knows its own mask")
         if not args.model:
             raise ValueError("give --model PATH (or --policy random --env ENV)")
         result = evaluate_model(args.model, args.episodes, args.seed)

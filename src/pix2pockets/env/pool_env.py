@@ -111,7 +111,8 @@ class PoolEnv(gym.Env):
 
     ## Episode End
     Terminated: in ``mode="turn"`` (default) at the first shot that does not earn another shot, or at a
-    win or a loss; in ``mode="shot"`` after every shot. Never truncated (a turn has at most 8 shots).
+    win or a loss; in ``mode="shot"`` after every shot. Truncated only when the physics backend fails on
+    a shot (see ``sim_errors``); a turn has at most 8 shots.
     ``info``: ``outcome``, ``fouls``, ``pocketed``, ``shot_success``, ``won``, ``shots``,
     ``reward_terms`` and, at the end, ``is_success``.
 
@@ -132,6 +133,9 @@ class PoolEnv(gym.Env):
       bins allowed on each side of a hitpoint's bin; ``hitpoint_finder``: replaces the planner's
       ``find_hitpoints``.
     * ``render_mode``: ``None``, ``"rgb_array"`` or ``"human"``; ``render_width``: image width [px].
+    * ``sim_errors``: ``"truncate"`` (default): a shot the backend cannot finish (its bounded event count
+      or time cap, a ``RuntimeError``) truncates the episode with reward 0 and ``info["sim_error"]``;
+      ``"raise"`` re-raises it.
 
     ## Version History
     * v0: initial version.
@@ -160,6 +164,7 @@ class PoolEnv(gym.Env):
         hitpoint_finder: HitpointFinder | None = None,
         render_mode: str | None = None,
         render_width: int = 800,
+        sim_errors: str = "truncate",
     ) -> None:
         self.setup = BallSetup(balls)
         self.mode = EpisodeMode(mode)
@@ -186,6 +191,9 @@ class PoolEnv(gym.Env):
             raise ValueError(f"render_mode must be one of {self.metadata['render_modes']} or None, got {render_mode!r}")
         self.render_mode = render_mode
         self.render_width = render_width
+        if sim_errors not in ("truncate", "raise"):
+            raise ValueError(f"sim_errors must be 'truncate' or 'raise', got {sim_errors!r}")
+        self.sim_errors = sim_errors
         self._window: HumanWindow | None = None
         self.layout: TableLayout | None = None
         self.group: Group | None = None
@@ -228,7 +236,16 @@ class PoolEnv(gym.Env):
         if cue is None:
             raise RuntimeError("the episode has ended (no cue ball on the table); call reset()")
         shot = self.actions.to_shot(np.asarray(action), self.np_random)
-        result = self.simulator.simulate(before, shot)
+        try:
+            result = self.simulator.simulate(before, shot)
+        except RuntimeError as err:  # the backend's bounded failure (event cap, time cap)
+            if self.sim_errors == "raise":
+                raise
+            gym.logger.warn(f"shot simulation failed, episode truncated: {err}")
+            self._shots += 1
+            info = {"outcome": "sim_error", "sim_error": str(err), "shot_success": False, "won": False}
+            info["shots"] = self._shots
+            return self._obs(), 0.0, False, True, info
         targets = tuple(self.targets(before))
         if self.setup is BallSetup.ONE:
             turn = None

@@ -1,7 +1,9 @@
 """The paper's planner experiments: aim precision (Fig. 4b) and ball shift (sec. 6.2).
 
 * **Aim precision**: success of one shot in the 1-ball and 2-ball environments when the cue direction
-  gets Gaussian noise of standard deviation sigma (0-5 degrees).
+  gets Gaussian noise of standard deviation sigma (0-5 degrees). As in the paper, the 1-ball environment
+  holds only the cue ball and the goal is to pot it (:func:`cue_pot_precision`: aimed at the middle of
+  the widest clear pocket window); the 2-ball environment is the cue ball and the 8.
 * **Ball shift**: in the 2-ball environment the planner plans on the layout it sees; the shot is then
   played with the target ball moved in a random direction by a distance drawn uniformly from the measured
   location error (shift-1; the paper's 0.22-0.76 cm) or by a fixed 2.5 cm (shift-2).
@@ -9,6 +11,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
@@ -17,9 +20,10 @@ import numpy as np
 
 from pix2pockets.planner.base import Planner
 from pix2pockets.planner.evaluation import environment_state, evaluate_planner, sample_environment, wilson_interval
+from pix2pockets.planner.hitpoints import pocket_window
 from pix2pockets.planner.noise import aim_noise
 from pix2pockets.rules import GameState, turn_outcome
-from pix2pockets.state import Shot, ShotResult, TableLayout
+from pix2pockets.state import Shot, ShotResult, TableLayout, random_layout
 
 PAPER_SIGMAS_DEG: tuple[float, ...] = (0.0, 0.01, 0.05, 0.1, 0.25, 1.0, 3.0, 5.0)
 """Aim-noise levels of the paper's Fig. 4b [deg]."""
@@ -76,6 +80,46 @@ def aim_precision(
             raise ValueError(f"aim sigma must be >= 0 degrees, got {sigma}")
         s = evaluate_planner(make(sigma), simulate, balls, layouts, seed, aim_noise(sigma))
         out[float(sigma)] = Rate(s.clears, s.turns)
+    return out
+
+
+def cue_pot_precision(
+    simulate: Callable[[TableLayout, Shot], ShotResult],
+    sigmas_deg: Sequence[float] = PAPER_SIGMAS_DEG,
+    layouts: int = 200,
+    seed: int = 0,
+    speed: float = 3.0,
+) -> dict[float, Rate]:
+    """The paper's 1-ball environment: pot the lone cue ball, aimed at the widest clear pocket window.
+
+    Args:
+        simulate: the simulator.
+        sigmas_deg: aim-noise standard deviations [deg].
+        layouts: random cue-ball spots per sigma (the same for every sigma).
+        seed: layout and noise seed.
+        speed: stroke speed [m/s].
+    """
+    out: dict[float, Rate] = {}
+    for sigma in sigmas_deg:
+        if not (math.isfinite(sigma) and sigma >= 0):
+            raise ValueError(f"aim sigma must be >= 0 degrees, got {sigma}")
+        noise = aim_noise(sigma)
+        wins = 0
+        for i in range(layouts):
+            layout = random_layout(np.random.default_rng([seed, i, 0]), [0])
+            c = layout.positions[0]
+            r = layout.spec.ball_radius
+            best = max(
+                (w for w in (pocket_window(c, p.jaws, r) for p in layout.spec.pockets) if w is not None),
+                key=lambda w: w[2],
+                default=None,
+            )
+            if best is None:
+                continue
+            shot = noise.perturb(Shot(angle=best[1], speed=speed), np.random.default_rng([seed, i, 2]))
+            with contextlib.suppress(RuntimeError):  # a simulator time-out counts as a miss
+                wins += simulate(layout, shot).cue_pocketed
+        out[float(sigma)] = Rate(wins, layouts)
     return out
 
 

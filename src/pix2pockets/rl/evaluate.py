@@ -140,15 +140,37 @@ def run_episodes(env: gym.Env, policy: Policy, episodes: int, seed: int) -> dict
     }
 
 
+def masked_sample(mask: np.ndarray, nvec: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """A uniform draw per ``MultiDiscrete`` dimension among the entries its part of ``mask`` allows."""
+    action, start = [], 0
+    for n in (int(k) for k in nvec):
+        allowed = np.flatnonzero(mask[start : start + n])
+        action.append(int(rng.choice(allowed)) if allowed.size else int(rng.integers(n)))
+        start += n
+    return np.array(action, dtype=np.int64)
+
+
 def evaluate_random(choice: EnvChoice, episodes: int, seed: int = 0) -> EvalResult:
-    """The random baseline: uniform actions from the env's action space (seeded)."""
+    """The random baseline: uniform actions from the env's action space (seeded).
+
+    With a mask in ``choice`` the draw is uniform among the allowed actions (direction bins at the
+    hitpoints, and the power levels the mask leaves), i.e. an untrained MaskablePPO's support.
+    """
     env = make_env(choice)
     env.action_space.seed(seed)
+    rng = np.random.default_rng(seed)
+
+    def act(_obs: Any, e: gym.Env) -> Any:
+        if choice.mask is None:
+            return e.action_space.sample()
+        mask = np.asarray(e.get_wrapper_attr("action_masks")(), dtype=bool)
+        return masked_sample(mask, e.action_space.nvec, rng)
+
     try:
-        numbers = run_episodes(env, lambda _obs, e: e.action_space.sample(), episodes, seed)
+        numbers = run_episodes(env, act, episodes, seed)
     finally:
         env.close()
-    return EvalResult("random", choice, episodes, seed, **numbers)
+    return EvalResult("random" if choice.mask is None else "random-masked", choice, episodes, seed, **numbers)
 
 
 def model_policy(model: Any, maskable: bool) -> Policy:

@@ -4,7 +4,7 @@ pipeline -> labels."""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -40,6 +40,19 @@ class Render:
     ids: np.ndarray
     occluded: np.ndarray
     labels: dict
+
+
+STRETCH_PROBABILITY = 0.2
+"""Share of single views rendered with non-square pixels (photos resized to another aspect ratio, as
+Roboflow exports stretch them)."""
+
+
+def stretch_pixels(cam: PinholeCamera, aspect: float) -> PinholeCamera:
+    """The same camera with its horizontal focal length scaled by ``aspect`` (non-square pixels), as if the
+    photo had been resized horizontally by ``aspect`` about the image centre."""
+    K = cam.K.copy()
+    K[0, 0] *= aspect
+    return replace(cam, K=K)
 
 
 def _streams(seed: Seed, n: int) -> list[np.random.Generator]:
@@ -255,6 +268,8 @@ def render(seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, camera_kind: str | 
     layout, mode = sample_layout(r_layout, spec)
     scene = sample_scene(r_scene, layout)
     cam, kind = sample_camera(r_cam, spec, size, camera_kind, scene.floor_z, scene.rail_width)
+    if r_cam.random() < STRETCH_PROBABILITY:
+        cam = stretch_pixels(cam, float(np.exp(r_cam.uniform(np.log(0.75), np.log(1.33)))))
     out = render_scene_view(scene, cam, kind, r_fx)
     out.labels["layout_mode"] = mode
     out.labels["seed"] = [int(seed)] if np.isscalar(seed) else [int(s) for s in seed]

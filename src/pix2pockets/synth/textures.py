@@ -233,6 +233,9 @@ def wall_texture(rng: np.random.Generator, style: str, height: int = 192, width:
         if style == "pub" and rng.random() < 0.5:
             _draw_ad_boards(rng, img, int(height * 0.2), int(height * 0.32))
     img[-3:] *= 0.4  # skirting shadow
+    # fine detail: plaster/fabric grain and small clutter at texel scale
+    detail = cv2.GaussianBlur(rng.normal(0.0, 1.0, (height, width)).astype(np.float32), (0, 0), 0.7)
+    img *= (1.0 + rng.uniform(0.03, 0.1) * detail)[..., None]
     return np.clip(img, 0, 1).astype(np.float32)
 
 

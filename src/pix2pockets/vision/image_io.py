@@ -1,4 +1,4 @@
-"""Reading photos safely: clear errors for non-images, truncated files and huge images."""
+"""Reading photos safely: clear errors for non-images, truncated files and huge images; EXIF orientation applied."""
 
 from __future__ import annotations
 
@@ -38,7 +38,7 @@ def decode_image_rgb(data: bytes, name: str = "upload", max_pixels: int = MAX_PI
 
 
 def _decode(source: Path | BinaryIO, name: str, max_pixels: int) -> np.ndarray:
-    from PIL import Image, UnidentifiedImageError
+    from PIL import Image, ImageOps, UnidentifiedImageError
 
     try:
         with warnings.catch_warnings():
@@ -48,7 +48,8 @@ def _decode(source: Path | BinaryIO, name: str, max_pixels: int) -> np.ndarray:
                 if w * h > max_pixels:
                     raise ValueError(f"image {name} is too large ({w}x{h} > {max_pixels} pixels)")
                 im.load()
-                rgb = im.convert("RGB")
+                # phones store portrait photos sideways plus an EXIF orientation tag: show what the user saw
+                rgb = ImageOps.exif_transpose(im).convert("RGB")
     except UnidentifiedImageError as err:
         raise ValueError(f"not an image file: {name}") from err
     except (Image.DecompressionBombError, Image.DecompressionBombWarning) as err:

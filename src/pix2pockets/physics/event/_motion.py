@@ -23,6 +23,7 @@ import math
 from numba import njit
 
 from pix2pockets.physics.event.params import (
+    P_CUSHION_SIN,
     P_E_BALL,
     P_E_CUSHION,
     P_G,
@@ -329,39 +330,60 @@ def _drop_normal_slip(i, nx, ny, w) -> None:
 
 @njit(cache=True)
 def collide_cushion(i, nx, ny, vel, w, prm) -> None:
-    """Ball ``i`` hits a cushion (or jaw) whose unit normal ``n`` points toward the ball centre.
+    """Ball ``i`` hits a cushion (or jaw) whose unit normal ``n`` (in the plane) points toward the ball.
 
-    Normal: restitution ``e_cushion``. Tangential: Coulomb friction at the contact point (at the ball's
-    equator), capped at the impulse that stops the slip, which couples the tangential speed with the
-    side spin ``w_z``. The cushion's height above the equator is neglected.
+    The cushion nose touches the ball above its equator, so the contact normal ``N`` tilts down by
+    ``asin((h - R) / R)``. At the contact point an instantaneous impulse acts: along ``N`` with
+    restitution ``e_cushion``, and Coulomb friction ``mu_cushion`` against the contact-point slip, capped
+    at the impulse that stops the slip. This couples speed with all three spin components (running
+    English, topspin and draw off the rail). The table absorbs the vertical part of the impulse.
+
+    Impacts slower than the settle speed are not bounced: the normal velocity is removed along with the
+    spin that would drive the ball back into the cushion.
 
     References:
-        Mathavan et al., "A theoretical analysis of billiard ball dynamics under cushion impacts",
-        Proc. IMechE C 224 (2010) (full model; this is its planar, equator-contact simplification).
+        Rigid-body impulse of a sphere on a half-space with Coulomb friction (e.g. Mathavan et al.,
+        "A theoretical analysis of billiard ball dynamics under cushion impacts", Proc. IMechE C 224,
+        2010, sec. 2; pooltool's ``impulse_frictional_inelastic`` cushion model uses the same law).
     """
     R = prm[P_R]
     vn = vel[i, 0] * nx + vel[i, 1] * ny
-    e = prm[P_E_CUSHION]
     settle = prm[P_V_SETTLE]
     if vn > -settle:
         # slow or pressing contact: no bounce, and no spin left that drives the ball into the cushion
         _drop_normal_slip(i, nx, ny, w)
-        if vn >= 0.0:
-            if vn < settle:  # resting against the cushion: move exactly along it
-                vt = -vel[i, 0] * ny + vel[i, 1] * nx
-                vel[i, 0] = -vt * ny
-                vel[i, 1] = vt * nx
-            return
-        e = 0.0
-    jn = -(1.0 + e) * vn
-    tx, ty = -ny, nx
-    ut = vel[i, 0] * tx + vel[i, 1] * ty - R * w[i, 2]
-    jt = min(prm[P_MU_CUSHION] * jn, abs(ut) * 2.0 / 7.0)
-    if ut > 0.0:
-        jt = -jt
-    vel[i, 0] += jn * nx + jt * tx
-    vel[i, 1] += jn * ny + jt * ty
-    w[i, 2] -= 2.5 * jt / R
+        vt = -vel[i, 0] * ny + vel[i, 1] * nx
+        if vn < settle:  # stop the normal motion exactly: the ball then runs along the cushion
+            vel[i, 0] = -vt * ny
+            vel[i, 1] = vt * nx
+        return
+    s = prm[P_CUSHION_SIN]
+    c = math.sqrt(1.0 - s * s)
+    # contact point relative to the centre, and the unit normal from it to the centre
+    rx, ry, rz = -R * c * nx, -R * c * ny, R * s
+    Nx, Ny, Nz = c * nx, c * ny, -s
+    wx, wy, wz = w[i, 0], w[i, 1], w[i, 2]
+    ux = vel[i, 0] + (wy * rz - wz * ry)
+    uy = vel[i, 1] + (wz * rx - wx * rz)
+    uz = wx * ry - wy * rx
+    un = ux * Nx + uy * Ny + uz * Nz
+    if un >= 0.0:
+        return
+    jn = -(1.0 + prm[P_E_CUSHION]) * un
+    tx, ty, tz = ux - un * Nx, uy - un * Ny, uz - un * Nz
+    slip = math.sqrt(tx * tx + ty * ty + tz * tz)
+    jx, jy, jz = jn * Nx, jn * Ny, jn * Nz
+    if slip > 0.0:
+        jt = min(prm[P_MU_CUSHION] * jn, slip * 2.0 / 7.0)
+        jx -= jt * tx / slip
+        jy -= jt * ty / slip
+        jz -= jt * tz / slip
+    vel[i, 0] += jx
+    vel[i, 1] += jy
+    k = 2.5 / (R * R)  # m / I
+    w[i, 0] += k * (ry * jz - rz * jy)
+    w[i, 1] += k * (rz * jx - rx * jz)
+    w[i, 2] += k * (rx * jy - ry * jx)
 
 
 @njit(cache=True)

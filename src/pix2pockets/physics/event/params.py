@@ -10,7 +10,8 @@ import numpy as np
 # Index of each parameter in the packed float array the compiled kernels read.
 P_MU_SLIDE, P_MU_ROLL, P_MU_SPIN, P_E_BALL, P_E_CUSHION, P_MU_CUSHION, P_G, P_R = range(8)
 P_V_SETTLE = 8
-N_PARAMS = 9
+P_CUSHION_SIN = 9  # sine of the angle between the cushion contact normal and the table plane
+N_PARAMS = 10
 
 SPIN_FRICTION_PER_METRE = 10.0 * 2.0 / (5.0 * 9.0)
 """pooltool's spinning-friction proportionality [1/m]: ``mu_spin = SPIN_FRICTION_PER_METRE * R``."""
@@ -75,8 +76,14 @@ class PhysicsParams:
         """The spinning friction coefficient for balls of ``ball_radius`` [m]."""
         return SPIN_FRICTION_PER_METRE * ball_radius if self.mu_spin is None else self.mu_spin
 
-    def packed(self, ball_radius: float) -> np.ndarray:
-        """The parameters as the float array the compiled kernels read (``P_*`` indices)."""
+    def packed(self, ball_radius: float, cushion_height: float | None = None) -> np.ndarray:
+        """The parameters as the float array the compiled kernels read (``P_*`` indices).
+
+        Args:
+            ball_radius: ball radius ``R`` [m].
+            cushion_height: height of the cushion nose above the cloth [m]; the contact normal then
+                tilts down by ``asin((h - R) / R)``. ``None`` puts the contact on the ball's equator.
+        """
         out = np.empty(N_PARAMS)
         out[P_MU_SLIDE] = self.mu_slide
         out[P_MU_ROLL] = self.mu_roll
@@ -87,4 +94,8 @@ class PhysicsParams:
         out[P_G] = self.g
         out[P_R] = ball_radius
         out[P_V_SETTLE] = self.settle_speed
+        sin_tilt = 0.0 if cushion_height is None else (cushion_height - ball_radius) / ball_radius
+        if not -1.0 < sin_tilt < 1.0:
+            raise ValueError(f"cushion height {cushion_height} m must be between 0 and 2 R = {2 * ball_radius} m")
+        out[P_CUSHION_SIN] = sin_tilt
         return out

@@ -126,7 +126,7 @@ class EventSimulator:
         spec = layout.spec
         cached = self._geo_cache.get(spec)
         if cached is None:
-            cached = (pack_table(spec), self.params.packed(spec.ball_radius))
+            cached = (pack_table(spec), self.params.packed(spec.ball_radius, spec.cushion_height))
             self._geo_cache[spec] = cached
         return cue, cached[1], cached[0]
 
