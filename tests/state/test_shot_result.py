@@ -38,3 +38,17 @@ def test_result_from_events():
     assert not res.cue_pocketed
     assert res.rails_touched == (1,)
     assert res.duration == pytest.approx(1.2)
+
+
+def test_result_without_revalidation_matches_and_user_layouts_are_still_checked():
+    lay = TableLayout((Ball.numbered(0), Ball.numbered(1), Ball.numbered(2)), [[0.5, 0.5], [1.0, 0.5], [2.0, 1.0]])
+    events = [Event(0.0, EventType.CUE_STRIKE, 0), Event(0.5, EventType.POCKET, 2, 3)]
+    final = [[0.6, 0.5], [1.2, 0.6], [9.0, 9.0]]
+    checked = ShotResult.from_events(lay, events, final)
+    fast = ShotResult.from_events(lay, events, final, validate=False)
+    assert fast.final == checked.final and fast.final_ids == checked.final_ids == (0, 1)
+    assert not fast.final.positions.flags.writeable
+    with pytest.raises(ValueError, match="overlap"):  # the validating path still rejects bad layouts
+        ShotResult.from_events(lay, events, [[0.6, 0.5], [0.61, 0.5], [9.0, 9.0]])
+    with pytest.raises(ValueError, match="off the playing surface"):
+        TableLayout((Ball.numbered(0),), [[-1.0, 0.5]])

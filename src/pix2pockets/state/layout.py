@@ -69,6 +69,22 @@ class TableLayout:
                     f"{d[i, j] * 1000:.1f} mm apart, need at least {2 * r * 1000:.1f} mm"
                 )
 
+    @classmethod
+    def unchecked(cls, balls: tuple[Ball, ...], positions: np.ndarray, spec: TableSpec) -> TableLayout:
+        """Build a layout WITHOUT validation: only for layouts the library derives from a validated one.
+
+        For example a simulator's final state (a subset of the validated starting balls, positions
+        produced by the physics, whose invariants its tests and soaks check). Never use it for user
+        input: that goes through the validating constructor.
+        """
+        layout = object.__new__(cls)
+        pos = np.array(positions, dtype=float).reshape(-1, 2)
+        pos.setflags(write=False)
+        object.__setattr__(layout, "balls", tuple(balls))
+        object.__setattr__(layout, "positions", pos)
+        object.__setattr__(layout, "spec", spec)
+        return layout
+
     def __len__(self) -> int:
         return len(self.balls)
 

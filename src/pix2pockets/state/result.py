@@ -5,6 +5,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from enum import StrEnum
 
+import numpy as np
+
 from pix2pockets.state.layout import TableLayout
 
 
@@ -82,11 +84,15 @@ class ShotResult:
         return tuple(seen)
 
     @classmethod
-    def from_events(cls, initial: TableLayout, events: list[Event], final_positions) -> ShotResult:
+    def from_events(
+        cls, initial: TableLayout, events: list[Event], final_positions, *, validate: bool = True
+    ) -> ShotResult:
         """Build a result from an event list and the final positions of *all* initial balls.
 
         Positions of pocketed balls in ``final_positions`` are ignored. Derives ``pocketed``,
-        ``first_contact`` and ``rail_after_contact`` from the events.
+        ``first_contact`` and ``rail_after_contact`` from the events. ``validate=False`` skips
+        re-validating the final layout (``TableLayout.unchecked``): for simulators whose output
+        invariants are tested (no overlap, every ball on the table); it is the bulk of the cost.
         """
         events = sorted(events, key=lambda e: e.time)
         cue = initial.cue_index
@@ -111,7 +117,8 @@ class ShotResult:
             ):
                 rail_after = True
         keep = [i for i in range(len(initial)) if i not in pocketed]
-        final = TableLayout(tuple(initial.balls[i] for i in keep), [final_positions[i] for i in keep], initial.spec)
+        make = TableLayout if validate else TableLayout.unchecked
+        final = make(tuple(initial.balls[i] for i in keep), np.asarray(final_positions)[keep], initial.spec)
         duration = events[-1].time if events else 0.0
         return cls(
             initial,

@@ -165,7 +165,7 @@ def run_shot(
         if kind == 0:
             c2 = bj
             outcome = collide_balls(bi, bj, pos, vel, w, prm)
-            if outcome == COLLIDE_NUDGE and not nudge_apart(bi, bj, n, pos, st, prm):
+            if outcome == COLLIDE_NUDGE and not nudge_apart(bi, bj, n, pos, st, prm, size[0], size[1]):
                 outcome = COLLIDE_LOCK
             if outcome == COLLIDE_LOCK:
                 locked = True

@@ -227,16 +227,19 @@ def collide_balls(i, j, pos, vel, w, prm) -> int:
 
 
 @njit(cache=True)
-def nudge_apart(i, j, n, pos, st, prm) -> bool:
+def nudge_apart(i, j, n, pos, st, prm, length, width) -> bool:
     """Set a slow, pressing pair ``NUDGE_GAP`` apart along its line of centres.
 
     Each ball moves half the way, unless that would bring it closer to a third ball it already nearly
-    touches (so repeated nudges never build up an overlap with neighbours).
+    touches, or push it further past a cushion-nose line (``length`` x ``width`` [m] playing surface),
+    so repeated nudges never build up an overlap with neighbours or push a ball pinned against a
+    cushion through it.
 
     Returns:
         whether the pair is now apart (``False``: both balls are boxed in; the caller locks them).
     """
-    D = 2.0 * prm[P_R]
+    R = prm[P_R]
+    D = 2.0 * R
     nx = pos[j, 0] - pos[i, 0]
     ny = pos[j, 1] - pos[i, 1]
     d = math.hypot(nx, ny)
@@ -251,8 +254,10 @@ def nudge_apart(i, j, n, pos, st, prm) -> bool:
     for b, sgn in ((i, -1.0), (j, 1.0)):
         mx = pos[b, 0] + sgn * half * nx
         my = pos[b, 1] + sgn * half * ny
-        ok = True
+        ok = _outside(mx, my, R, length, width) <= max(_outside(pos[b, 0], pos[b, 1], R, length, width), 0.0)
         for k in range(n):
+            if not ok:
+                break
             if k in (i, j) or st[k] == ST_POCKETED:
                 continue
             new_gap = math.hypot(mx - pos[k, 0], my - pos[k, 1]) - D
@@ -266,6 +271,12 @@ def nudge_apart(i, j, n, pos, st, prm) -> bool:
             pos[b, 1] = my
             moved = True
     return moved
+
+
+@njit(cache=True, inline="always")
+def _outside(x, y, R, length, width) -> float:
+    """How far a centre at (x, y) lies past the nearest cushion-nose line (<= 0 inside) [m]."""
+    return max(R - x, x - (length - R), R - y, y - (width - R))
 
 
 @njit(cache=True)

@@ -178,7 +178,7 @@ class EventSimulator:
         nev = min(nev, cap)
         columns = (ev_t[:nev].tolist(), ev_k[:nev].tolist(), ev_a[:nev].tolist(), ev_b[:nev].tolist())
         events = [Event(t, _EVENT_TYPES[k], a, b) for t, k, a, b in zip(*columns, strict=True)]
-        return ShotResult.from_events(layout, events, pos), ev_e[:nev].copy()
+        return ShotResult.from_events(layout, events, pos, validate=False), ev_e[:nev].copy()
 
     def simulate_batch(
         self, layout: TableLayout, shots: Sequence[Shot], stop: StopAfter = StopAfter.REST
