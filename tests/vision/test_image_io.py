@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from pix2pockets.vision.image_io import read_image_rgb
+from pix2pockets.vision.image_io import decode_image_rgb, read_image_rgb
 
 
 def test_reads_png_as_rgb(tmp_path):
@@ -35,3 +35,33 @@ def test_errors(tmp_path):
     cut.write_bytes(full.read_bytes()[:300])
     with pytest.raises(ValueError, match="truncated"):
         read_image_rgb(cut)
+
+
+def test_decode_bytes_matches_file_reading(tmp_path):
+    p = tmp_path / "a.png"
+    Image.fromarray(np.arange(48, dtype=np.uint8).reshape(4, 4, 3)).save(p)
+    np.testing.assert_array_equal(decode_image_rgb(p.read_bytes()), read_image_rgb(p))
+
+
+@pytest.mark.parametrize(
+    ("data", "match"),
+    [(b"", "photo.png is empty"), (b"hello", "not an image file: photo.png"), (b"\x89PNG\r\n\x1a\n\0\0", "photo.png")],
+)
+def test_decode_bytes_errors(data, match):
+    with pytest.raises(ValueError, match=match):
+        decode_image_rgb(data, "photo.png")
+
+
+def test_exif_orientation_is_applied():
+    import io
+
+    pixels = np.zeros((2, 3, 3), np.uint8)
+    pixels[0, 0] = 255  # top-left marker in the stored (sideways) image
+    im = Image.fromarray(pixels)
+    exif = im.getexif()
+    exif[0x0112] = 6  # "rotate 90 degrees clockwise to display"
+    buf = io.BytesIO()
+    im.save(buf, format="PNG", exif=exif)
+    rgb = decode_image_rgb(buf.getvalue())
+    assert rgb.shape == (3, 2, 3)
+    assert rgb[0, 1, 0] == 255  # the marker moved to the top-right corner

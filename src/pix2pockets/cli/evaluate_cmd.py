@@ -12,6 +12,7 @@ import importlib
 # Evaluation targets: name -> module with register(subparsers).
 TARGETS: dict[str, str] = {
     "detector": "pix2pockets.cli.evaluate_detector",
+    "planner": "pix2pockets.cli.evaluate_planner",
 }
 
 

@@ -1,27 +1,31 @@
-"""The ``pix2pockets`` command: one sub-command per module, registered in ``COMMANDS``.
+"""The ``pix2pockets`` command: one sub-command per module.
 
-Each command module exposes ``register(subparsers)`` which adds its parser and sets ``func`` (a callable
-taking the parsed args and returning an exit code). Errors the user can fix are raised as ``ValueError``
-(or ``OSError``) and printed as one line on stderr with exit code 2.
+Sub-commands are discovered: every ``cli/<name>_cmd.py`` module exposes ``register(subparsers)``, which adds
+its parser and sets ``func`` (a callable taking the parsed args and returning an exit code). Errors the user
+can fix are raised as ``ValueError`` (or ``OSError``) and printed as one line on stderr with exit code 2.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import pkgutil
 import sys
 from collections.abc import Sequence
 
 from pix2pockets import __version__
 
 # Sub-command modules, imported lazily so `pix2pockets --help` stays fast.
-COMMANDS: tuple[str, ...] = (
-    "pix2pockets.cli.layout_cmd",
-    "pix2pockets.cli.synth_cmd",
-    "pix2pockets.cli.train_detector_cmd",
-    "pix2pockets.cli.detect_cmd",
-    "pix2pockets.cli.evaluate_cmd",
-)
+
+
+def discover_commands() -> tuple[str, ...]:
+    """Sub-command modules: every ``pix2pockets.cli.*_cmd`` module, sorted by name."""
+    package = importlib.import_module("pix2pockets.cli")
+    names = (m.name for m in pkgutil.iter_modules(package.__path__) if m.name.endswith("_cmd"))
+    return tuple(f"pix2pockets.cli.{name}" for name in sorted(names))
+
+
+COMMANDS: tuple[str, ...] = discover_commands()
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -25,7 +25,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from pix2pockets.synth.dataset import parse_split, write_dataset
-    from pix2pockets.synth.render import parse_size
+    from pix2pockets.synth.renderer import parse_size
 
     size = parse_size(args.size)
     split = parse_split(args.split)

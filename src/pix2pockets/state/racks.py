@@ -69,20 +69,25 @@ def random_layout(
     centres = spec.pocket_centres
     radii = np.array([p.capture_radius for p in spec.pockets])
     lo = np.array([r, r])
-    hi = spec.size - r
-    placed: list[np.ndarray] = []
+    span = spec.size - r - lo
+    pocket_lim2 = (radii + clearance) ** 2  # squared distances: same decisions, no sqrt
+    ball_lim2 = (2 * r + 1e-6) ** 2
+    placed = np.empty((len(numbers), 2))
     tries = 0
-    for _ in numbers:
+    for n in range(len(numbers)):
         while True:
             tries += 1
             if tries > max_tries:
                 raise ValueError(f"could not place {len(numbers)} balls without overlap in {max_tries} tries")
-            p = lo + rng.random(2) * (hi - lo)
-            if np.any(np.linalg.norm(centres - p, axis=1) < radii + clearance):
+            p = lo + rng.random(2) * span
+            d = centres - p
+            if np.any(np.einsum("ij,ij->i", d, d) < pocket_lim2):
                 continue
-            if placed and np.min(np.linalg.norm(np.array(placed) - p, axis=1)) < 2 * r + 1e-6:
-                continue
-            placed.append(p)
+            if n:
+                d = placed[:n] - p
+                if np.einsum("ij,ij->i", d, d).min() < ball_lim2:
+                    continue
+            placed[n] = p
             break
     balls = tuple(Ball.numbered(n) for n in numbers)
-    return TableLayout(balls, np.array(placed), spec)
+    return TableLayout(balls, placed, spec)

@@ -8,6 +8,6 @@ Public API:
 """
 
 from pix2pockets.synth.dataset import write_dataset
-from pix2pockets.synth.render import DEFAULT_SIZE, Render, render, render_sample, render_views
+from pix2pockets.synth.renderer import DEFAULT_SIZE, Render, render, render_sample, render_views
 
 __all__ = ["DEFAULT_SIZE", "Render", "render", "render_sample", "render_views", "write_dataset"]

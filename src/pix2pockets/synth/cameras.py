@@ -111,9 +111,10 @@ def sample_camera(
     kind: str | None = None,
     floor_z: float = -0.78,
     rail: float = 0.14,
+    crop: bool = True,
 ) -> tuple[PinholeCamera, str]:
     """A camera of the given kind (drawn from :data:`CAMERA_KINDS` when ``None``) or a multi-view kind
-    (``"front"``). Returns the camera and its kind."""
+    (``"front"``). ``crop=False`` keeps the whole table in a top view. Returns the camera and its kind."""
     if kind is None:
         keys = list(CAMERA_KINDS)
         p = np.array([CAMERA_KINDS[k] for k in keys])
@@ -124,6 +125,8 @@ def sample_camera(
         az = rng.uniform(-math.pi, math.pi)
         up = np.array([0.0, 1.0 if rng.random() < 0.5 else -1.0, 0.0])
         fill = rng.uniform(0.78, 1.0) if rng.random() < 0.85 else rng.uniform(1.0, 1.35)
+        if not crop:
+            fill = min(fill, 0.95)
         target = centre + np.array([rng.normal(0, 0.04), rng.normal(0, 0.04), 0.0])
         cam = fit_camera(
             spec, _direction(el, az), target, math.radians(rng.uniform(25, 60)), size, fill,
@@ -181,5 +184,5 @@ def sample_camera(
             )
             if table_coverage(cam, spec) >= 0.12:
                 return cam, kind
-        return sample_camera(rng, spec, size, "jib", floor_z, rail)
+        return sample_camera(rng, spec, size, "jib", floor_z, rail, crop)
     raise ValueError(f"unknown camera kind {kind!r}; choose one of {[*CAMERA_KINDS, 'front']}")

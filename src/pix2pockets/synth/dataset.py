@@ -23,7 +23,7 @@ import cv2
 import numpy as np
 
 from pix2pockets.synth.labels import yolo_lines
-from pix2pockets.synth.render import DEFAULT_SIZE, Render, render, render_views
+from pix2pockets.synth.renderer import DEFAULT_SIZE, Render, render, render_views
 from pix2pockets.vision.classes import CLASS_NAMES
 
 SPLITS = ("train", "valid", "test")

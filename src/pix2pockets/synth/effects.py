@@ -237,8 +237,10 @@ def camera_pipeline(img: np.ndarray, rng: np.random.Generator, strength: float =
     h, w = img.shape[:2]
     info: dict = {}
     x = img.astype(np.float32)
-    if rng.random() < 0.5 * strength:  # colour cast / white balance error
-        cast = np.clip(1.0 + rng.normal(0, 0.06, 3), 0.8, 1.2).astype(np.float32)
+    if rng.random() < 0.6 * strength:  # white balance error: mostly warm (tungsten) or cool, plus a tint
+        temp = rng.normal(0.05, 0.09)
+        cast = np.array([1.0 + temp, 1.0, 1.0 - 1.3 * temp]) * (1.0 + rng.normal(0, 0.03, 3))
+        cast = np.clip(cast, 0.7, 1.3).astype(np.float32)
         x = x * cast
         info["colour_cast"] = [round(float(c), 3) for c in cast]
     if rng.random() < 0.4 * strength:  # lens vignetting
@@ -247,7 +249,15 @@ def camera_pipeline(img: np.ndarray, rng: np.random.Generator, strength: float =
         k = rng.uniform(0.15, 0.5)
         x = x * (1 - k * r2)[..., None]
         info["vignette"] = round(float(k), 3)
-    sigma = rng.uniform(0.35, 0.7)  # lens softness + anti-aliasing
+    if rng.random() < 0.35 * strength:  # bloom / glare around highlights and lamps
+        bright = np.clip(x.max(axis=2, keepdims=True) - 0.85, 0.0, None) * x
+        glow = cv2.GaussianBlur(bright, (0, 0), rng.uniform(2.0, 8.0))
+        if glow.ndim == 2:
+            glow = glow[..., None]
+        amount = rng.uniform(1.0, 4.0)
+        x = x + amount * glow
+        info["bloom"] = round(float(amount), 2)
+    sigma = rng.uniform(0.35, 0.7)  # lens softness
     if rng.random() < 0.3 * strength:
         sigma = rng.uniform(0.8, 2.2)
         info["defocus_sigma"] = round(float(sigma), 2)

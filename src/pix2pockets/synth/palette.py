@@ -21,6 +21,15 @@ BALL_COLOURS: dict[int, tuple[float, float, float]] = {
 }
 """Standard ball colours by number (stripes 9-15 use the colour of ``number - 8`` as their band)."""
 
+ALT_BALL_COLOURS: dict[int, tuple[tuple[float, float, float], ...]] = {
+    2: ((0.1, 0.3, 0.8), (0.02, 0.08, 0.4)),  # lighter / navy blue
+    4: ((0.8, 0.25, 0.55), (0.2, 0.08, 0.45)),  # pink / dark violet (cheap and TV sets)
+    5: ((0.95, 0.55, 0.1),),
+    6: ((0.1, 0.55, 0.25), (0.0, 0.3, 0.2)),
+    7: ((0.4, 0.18, 0.08), (0.6, 0.1, 0.1)),  # brown / dark red
+}
+"""Alternative shades seen in other ball sets; a scene swaps some in."""
+
 STRIPE_WHITE = (0.92, 0.91, 0.85)
 
 CLOTH_COLOURS: dict[str, tuple[float, float, float]] = {

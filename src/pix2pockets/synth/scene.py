@@ -15,6 +15,7 @@ from pix2pockets.geometry.table import TableSpec
 from pix2pockets.state.layout import TableLayout
 from pix2pockets.synth import raycast as rc
 from pix2pockets.synth.palette import (
+    ALT_BALL_COLOURS,
     BALL_COLOURS,
     CLOTH_COLOURS,
     CLOTH_WEIGHTS,
@@ -27,7 +28,7 @@ from pix2pockets.synth.palette import (
     jitter,
     weighted_choice,
 )
-from pix2pockets.synth.textures import floor_texture, value_noise, wall_texture, wood_grain
+from pix2pockets.synth.textures import TEXTURE_VARIANTS, cached_floor, cached_grain, cached_noise, cached_wall
 
 LIGHTING_KINDS: dict[str, float] = {"broadcast": 0.3, "pub_lamps": 0.35, "warm_pub": 0.15, "home": 0.2}
 ROOM_FOR_LIGHTING = {"broadcast": "arena", "pub_lamps": "pub", "warm_pub": "pub", "home": "home"}
@@ -44,7 +45,7 @@ class Scene:
         geo, shade, mats: flat parameter arrays (see ``raycast.G_*``, ``S_*``, ``M_*``).
         holes: pocket holes (6, 3): centre x, y [m] and radius [m].
         lights: point lights (m, 8): x, y, z [m], intensity, r, g, b, radius [m].
-        textures: noise, wood grain, floor and wall textures.
+        noise, grain: float tiles; floor_tex, wall_tex: uint8 RGB textures (shared, read-only caches).
         style: names of the drawn choices (cloth, rails, lighting, room, ...) for the label file.
     """
 
@@ -116,7 +117,7 @@ def _lights(rng: np.random.Generator, kind: str, spec: TableSpec) -> np.ndarray:
     L, W = spec.length, spec.width
     rows = []
     if kind == "broadcast":
-        n = int(rng.integers(3, 7))
+        n = int(rng.integers(2, 5))
         z = rng.uniform(2.5, 5.0)
         for i in range(n):
             x = L * (i + 0.5) / n + rng.normal(0, 0.1)
@@ -175,6 +176,11 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
     geo[rc.G_DC] = spec.corner_mouth / math.sqrt(2)
     geo[rc.G_SS] = spec.side_mouth / 2
     geo[rc.G_ZHB] = -0.12
+    geo[rc.G_LEGS] = float(rng.choice([0, 4, 6], p=[0.45, 0.35, 0.2]))
+    geo[rc.G_LEGW] = rng.uniform(0.1, 0.25)
+    geo[rc.G_SKIRT] = rng.uniform(0.06, 0.2)
+    if geo[rc.G_LEGS] > 0:  # legged tables sit under a shallower apron, legs just inside the rail
+        geo[rc.G_BI] = rng.uniform(0.03, 0.12)
 
     holes = np.zeros((6, 3))
     for k, pocket in enumerate(spec.pockets):
@@ -193,7 +199,7 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
     shade[rc.S_AMB] = {"broadcast": 0.35, "pub_lamps": 0.2, "warm_pub": 0.12, "home": 0.45}[lighting] * rng.uniform(
         0.7, 1.3
     )
-    shade[rc.S_CLOTH_TEX] = rng.uniform(0.03, 0.12)
+    shade[rc.S_CLOTH_TEX] = rng.uniform(0.02, 0.09)
     shade[rc.S_CLOTH_SCALE] = rng.uniform(60, 250)
     shade[rc.S_RAIL_TEX] = rng.uniform(0.6, 1.0) if is_wood else rng.uniform(0.0, 0.15)
     shade[rc.S_RAIL_GLOSS] = rng.uniform(0.05, 0.5)
@@ -228,8 +234,16 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
     amb_col = {"warm_pub": (1.0, 0.85, 0.65), "home": (0.95, 0.97, 1.0)}.get(lighting, (1.0, 1.0, 1.0))
     mats[rc.M_AMBCOL] = jitter(rng, amb_col, 0.03)
     mats[rc.M_WALLTINT] = jitter(rng, (1.0, 1.0, 1.0), 0.05)
+    mats[rc.M_RUG] = rng.uniform(0.05, 0.6, 3) ** 1.3
+    if room != "arena" and rng.random() < 0.3:  # a rug under the table
+        geo[rc.G_RUGX] = L / 2 + rw + rng.uniform(0.2, 1.0)
+        geo[rc.G_RUGY] = W / 2 + rw + rng.uniform(0.2, 1.0)
 
-    ball_jitter = {n: tuple(jitter(rng, c, 0.07)) for n, c in BALL_COLOURS.items()}
+    base_colours = dict(BALL_COLOURS)
+    for n, alts in ALT_BALL_COLOURS.items():
+        if rng.random() < 0.2:
+            base_colours[n] = alts[int(rng.integers(len(alts)))]
+    ball_jitter = {n: tuple(jitter(rng, c, 0.07)) for n, c in base_colours.items()}
     ball_jitter[0] = tuple(jitter(rng, STRIPE_WHITE, 0.02))
 
     n = len(layout)
@@ -251,9 +265,9 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
         mats=mats,
         holes=holes,
         lights=_lights(rng, lighting, spec),
-        noise=value_noise(rng, 256),
-        grain=wood_grain(rng, 256),
-        floor_tex=floor_texture(rng, 256),
-        wall_tex=wall_texture(rng, room),
+        noise=cached_noise(int(rng.integers(TEXTURE_VARIANTS))),
+        grain=cached_grain(int(rng.integers(TEXTURE_VARIANTS))),
+        floor_tex=cached_floor(int(rng.integers(TEXTURE_VARIANTS))),
+        wall_tex=cached_wall(room, int(rng.integers(TEXTURE_VARIANTS))),
         style=style,
     )

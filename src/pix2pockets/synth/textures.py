@@ -70,7 +70,7 @@ def wood_grain(rng: np.random.Generator, size: int = 256) -> np.ndarray:
 
 def floor_texture(rng: np.random.Generator, size: int = 256) -> np.ndarray:
     """A floor tile (RGB): wooden planks, carpet, tiles or concrete; covers about 2 m."""
-    kind = rng.choice(["planks", "carpet", "tiles", "concrete", "patterned"], p=[0.35, 0.25, 0.15, 0.15, 0.1])
+    kind = rng.choice(["planks", "carpet", "tiles", "concrete", "patterned"], p=[0.4, 0.27, 0.13, 0.14, 0.06])
     noise = value_noise(rng, size)
     if kind == "planks":
         base = jitter(rng, (0.45, 0.30, 0.17), 0.25)
@@ -154,6 +154,59 @@ def _draw_ad_boards(rng: np.random.Generator, img: np.ndarray, y0: int, y1: int)
         x += bw
 
 
+def _wall_item(rng: np.random.Generator, img: np.ndarray, big: np.ndarray) -> None:
+    """One piece of room clutter painted on the wall strip (in place)."""
+    height, width = img.shape[:2]
+    bw = int(rng.uniform(0.02, 0.12) * width)
+    bh = int(rng.uniform(0.15, 0.6) * height)
+    x0 = int(rng.integers(0, width - bw))
+    y0 = int(rng.integers(int(0.1 * height), max(int(0.1 * height) + 1, height - bh)))
+    kind = rng.random()
+    if kind < 0.18:  # window: bright, with a frame and mullions
+        col = tuple(float(c) for c in jitter(rng, (0.9, 0.95, 1.0), 0.1))
+        cv2.rectangle(img, (x0, y0), (x0 + bw, y0 + bh), col, -1)
+        frame = (0.9, 0.9, 0.9) if rng.random() < 0.6 else (0.2, 0.12, 0.06)
+        cv2.rectangle(img, (x0, y0), (x0 + bw, y0 + bh), frame, 2)
+        cv2.line(img, (x0 + bw // 2, y0), (x0 + bw // 2, y0 + bh), frame, 1)
+    elif kind < 0.4:  # framed picture / poster with a noisy "image" inside
+        h2 = max(4, bh // 2)
+        pic = cv2.resize(rng.uniform(0, 1, (4, 4, 3)).astype(np.float32), (bw, h2), interpolation=cv2.INTER_CUBIC)
+        img[y0 : y0 + h2, x0 : x0 + bw] = np.clip(pic, 0, 1)[: img.shape[0] - y0, : img.shape[1] - x0]
+        cv2.rectangle(img, (x0, y0), (x0 + bw, y0 + h2), tuple(float(c) for c in rng.uniform(0, 0.6, 3)), 2)
+    elif kind < 0.55:  # door / cabinet
+        col = tuple(float(c) for c in jitter(rng, (0.3, 0.18, 0.1), 0.4))
+        cv2.rectangle(img, (x0, height - bh), (x0 + bw, height - 1), col, -1)
+        cv2.circle(img, (x0 + bw - 4, height - bh // 2), 2, (0.8, 0.7, 0.3), -1)
+    elif kind < 0.68:  # shelf with bottles
+        shelf_y = y0 + bh // 2
+        cv2.rectangle(img, (x0, shelf_y), (x0 + bw, shelf_y + 3), (0.25, 0.15, 0.08), -1)
+        x = x0 + 2
+        while x < x0 + bw - 3:
+            bh2 = int(rng.uniform(6, 14))
+            col = tuple(float(c) for c in rng.uniform(0.05, 0.8, 3))
+            cv2.rectangle(img, (x, shelf_y - bh2), (x + 3, shelf_y), col, -1)
+            x += int(rng.uniform(4, 8))
+    elif kind < 0.76:  # dartboard
+        r = max(4, bw // 4)
+        c = (x0 + bw // 2, y0 + r)
+        for k, col in enumerate([(0.05, 0.05, 0.05), (0.8, 0.1, 0.1), (0.9, 0.85, 0.7), (0.1, 0.5, 0.2)]):
+            cv2.circle(img, c, max(1, r - k * r // 4), col, -1)
+    elif kind < 0.86:  # neon sign / TV
+        if rng.random() < 0.5:
+            col = tuple(float(c) for c in np.clip(rng.uniform(0.3, 1.0, 3) + 0.3, 0, 1))
+            word = ["BAR", "POOL", "OPEN", "BEER", "8 BALL", "CUE"][int(rng.integers(6))]
+            put_text(img, word, (x0, y0 + 20), FONTS[int(rng.integers(len(FONTS)))], 0.8, col, 2)
+        else:
+            cv2.rectangle(img, (x0, y0), (x0 + bw, y0 + bh // 2), (0.02, 0.02, 0.02), -1)
+            inner = cv2.resize(rng.uniform(0.2, 1, (3, 3, 3)).astype(np.float32), (max(1, bw - 6), max(1, bh // 2 - 6)))
+            img[y0 + 3 : y0 + 3 + inner.shape[0], x0 + 3 : x0 + 3 + inner.shape[1]] = inner[
+                : img.shape[0] - y0 - 3, : img.shape[1] - x0 - 3
+            ]
+    else:  # dark furniture / person-like silhouette
+        col = tuple(float(c) for c in rng.uniform(0.02, 0.25, 3))
+        cv2.ellipse(img, (x0 + bw // 2, height - bh // 2), (bw // 2, bh // 2), 0, 0, 360, col, -1)
+
+
 def wall_texture(rng: np.random.Generator, style: str, height: int = 192, width: int = 1536) -> np.ndarray:
     """The four room walls unrolled into one strip (RGB), rows from ceiling (0) to floor (height - 1).
 
@@ -175,29 +228,14 @@ def wall_texture(rng: np.random.Generator, style: str, height: int = 192, width:
         if rng.random() < 0.5:  # wainscot / lower panelling
             y = int(height * rng.uniform(0.55, 0.75))
             img[y:] = jitter(rng, (0.35, 0.2, 0.1), 0.4) * (1 + 0.1 * big[y:])
-        for _ in range(int(rng.integers(4, 12))):
-            bw = int(rng.uniform(0.02, 0.12) * width)
-            bh = int(rng.uniform(0.15, 0.6) * height)
-            x0 = int(rng.integers(0, width - bw))
-            y0 = int(rng.integers(int(0.1 * height), max(int(0.1 * height) + 1, height - bh)))
-            kind = rng.random()
-            if kind < 0.3:  # window: bright
-                col = tuple(float(c) for c in jitter(rng, (0.9, 0.95, 1.0), 0.1))
-                cv2.rectangle(img, (x0, y0), (x0 + bw, y0 + bh), col, -1)
-                cv2.rectangle(img, (x0, y0), (x0 + bw, y0 + bh), (0.9, 0.9, 0.9), 2)
-            elif kind < 0.6:  # frame / poster / sign
-                col = tuple(float(c) for c in rng.uniform(0.05, 0.9, 3))
-                cv2.rectangle(img, (x0, y0), (x0 + bw, y0 + bh // 2), col, -1)
-                cv2.rectangle(img, (x0, y0), (x0 + bw, y0 + bh // 2), (0.1, 0.07, 0.05), 2)
-            elif kind < 0.8:  # door / cabinet / shelf
-                col = tuple(float(c) for c in jitter(rng, (0.3, 0.18, 0.1), 0.4))
-                cv2.rectangle(img, (x0, height - bh), (x0 + bw, height - 1), col, -1)
-            else:  # dark furniture / person-like silhouette
-                col = tuple(float(c) for c in rng.uniform(0.02, 0.25, 3))
-                cv2.ellipse(img, (x0 + bw // 2, height - bh // 2), (bw // 2, bh // 2), 0, 0, 360, col, -1)
+        for _ in range(int(rng.integers(6, 20))):
+            _wall_item(rng, img, big)
         if style == "pub" and rng.random() < 0.5:
             _draw_ad_boards(rng, img, int(height * 0.2), int(height * 0.32))
     img[-3:] *= 0.4  # skirting shadow
+    # fine detail: plaster/fabric grain and small clutter at texel scale
+    detail = cv2.GaussianBlur(rng.normal(0.0, 1.0, (height, width)).astype(np.float32), (0, 0), 0.7)
+    img *= (1.0 + rng.uniform(0.03, 0.1) * detail)[..., None]
     return np.clip(img, 0, 1).astype(np.float32)
 
 
@@ -221,3 +259,34 @@ def digit_bitmaps(size: int = 32) -> np.ndarray:
             cv2.line(big, (org[0], org[1] + 10), (org[0] + tw, org[1] + 10), 255, 5)
         out[n] = cv2.resize(big, (size, size), interpolation=cv2.INTER_AREA) / 255.0
     return out
+
+
+TEXTURE_VARIANTS = 32
+"""Distinct textures of each kind; scenes pick one by index and tint it (cached: building walls is slow)."""
+
+_STYLE_CODE = {"arena": 1, "pub": 2, "home": 3}
+
+
+@functools.cache
+def cached_wall(style: str, key: int) -> np.ndarray:
+    """Wall strip ``key`` of a room style as uint8 RGB (built once from its own seed)."""
+    rng = np.random.default_rng([0x3A11, _STYLE_CODE[style], key])
+    return np.round(wall_texture(rng, style, 160, 1280) * 255).astype(np.uint8)
+
+
+@functools.cache
+def cached_floor(key: int) -> np.ndarray:
+    """Floor tile ``key`` as uint8 RGB."""
+    return np.round(floor_texture(np.random.default_rng([0xF100, key])) * 255).astype(np.uint8)
+
+
+@functools.cache
+def cached_noise(key: int) -> np.ndarray:
+    """Value-noise tile ``key`` (float32, [-1, 1])."""
+    return value_noise(np.random.default_rng([0x2015E, key]), 256)
+
+
+@functools.cache
+def cached_grain(key: int) -> np.ndarray:
+    """Wood-grain tile ``key`` (float32 around 1)."""
+    return wood_grain(np.random.default_rng([0x6A1, key]), 256)

@@ -4,13 +4,14 @@ pipeline -> labels."""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.table import TABLE_PRESETS, TableSpec
 from pix2pockets.synth import effects as fx
+from pix2pockets.synth import people, props
 from pix2pockets.synth import raycast as rc
 from pix2pockets.synth.cameras import VIEW_KINDS, sample_camera
 from pix2pockets.synth.labels import build_labels, camera_dict, sphere_outline_px
@@ -41,6 +42,19 @@ class Render:
     labels: dict
 
 
+STRETCH_PROBABILITY = 0.2
+"""Share of single views rendered with non-square pixels (photos resized to another aspect ratio, as
+Roboflow exports stretch them)."""
+
+
+def stretch_pixels(cam: PinholeCamera, aspect: float) -> PinholeCamera:
+    """The same camera with its horizontal focal length scaled by ``aspect`` (non-square pixels), as if the
+    photo had been resized horizontally by ``aspect`` about the image centre."""
+    K = cam.K.copy()
+    K[0, 0] *= aspect
+    return replace(cam, K=K)
+
+
 def _streams(seed: Seed, n: int) -> list[np.random.Generator]:
     entropy = [int(seed)] if np.isscalar(seed) else [int(s) for s in seed]
     if any(s < 0 for s in entropy):
@@ -59,9 +73,9 @@ def parse_size(text: str) -> tuple[int, int]:
     return w, h
 
 
-def trace(scene: Scene, cam: PinholeCamera) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Ray cast ``scene`` through ``cam``: raw RGB (H, W, 3) float32, ids (H, W) int16, silhouette
-    pixel counts per ball (n,)."""
+def trace(scene: Scene, cam: PinholeCamera) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """Ray cast ``scene`` through ``cam``: raw RGB (H, W, 3) float32, ids (H, W) int16, depth along each
+    ray (H, W) float32 [m], silhouette pixel counts per ball (n,)."""
     w, h = cam.image_size
     centres = scene.ball_centres
     n = len(centres)
@@ -78,6 +92,7 @@ def trace(scene: Scene, cam: PinholeCamera) -> tuple[np.ndarray, np.ndarray, np.
     cols, kinds, nums = scene.ball_arrays()
     rgb = np.zeros((h, w, 3), np.float32)
     ids = np.zeros((h, w), np.int16)
+    depth = np.zeros((h, w), np.float32)
     sil = np.zeros(n, np.int64)
     rc.render_scene(
         np.linalg.inv(cam.K),
@@ -104,9 +119,10 @@ def trace(scene: Scene, cam: PinholeCamera) -> tuple[np.ndarray, np.ndarray, np.
         scene.wall_tex,
         rgb,
         ids,
+        depth,
         sil,
     )
-    return rgb, ids, sil
+    return rgb, ids, depth, sil
 
 
 def _exposure(scene: Scene, rgb: np.ndarray, ids: np.ndarray) -> float:
@@ -119,29 +135,86 @@ def _exposure(scene: Scene, rgb: np.ndarray, ids: np.ndarray) -> float:
     return float(target / max(ref, 1e-4))
 
 
+def _clearance(capsules: list, cam: PinholeCamera) -> float:
+    """Smallest distance from the camera centre to any capsule's surface [m]."""
+    c = cam.position
+    best = np.inf
+    for p0, p1, r0, r1, _ in capsules:
+        seg = p1 - p0
+        s = float(np.clip(np.dot(c - p0, seg) / max(float(np.dot(seg, seg)), 1e-12), 0.0, 1.0))
+        best = min(best, float(np.linalg.norm(p0 + s * seg - c)) - max(r0, r1))
+    return best
+
+
 def _add_occluders(
-    img: np.ndarray, scene: Scene, cam: PinholeCamera, kind: str, rng: np.random.Generator, strength: float
+    img: np.ndarray,
+    depth: np.ndarray,
+    scene: Scene,
+    cam: PinholeCamera,
+    kind: str,
+    rng: np.random.Generator,
+    strength: float,
 ) -> tuple[np.ndarray, list[str]]:
+    """Players, bystanders, cue sticks, chalk (z-buffered 3-D figures) and broadcast overlays (2-D)."""
     h, w = img.shape[:2]
     mask = np.zeros((h, w), bool)
+    depth = depth.copy()
     used = []
     centres = scene.ball_centres
+    spec = scene.spec
     phone = kind.startswith("phone")
-    if len(centres) and rng.random() < 0.35 * strength:
-        i = int(rng.integers(len(centres)))
-        fx.draw_cue_stick(img, mask, rng, cam, centres[i, :2])
+    lighting = scene.style.get("lighting")
+    # lamp shades over pub tables (a top-down camera hangs among or above them: skip there)
+    if lighting in ("pub_lamps", "warm_pub") and kind != "top" and rng.random() < 0.8:
+        people.draw_figure(img, mask, depth, cam, props.lamp_shades(rng, scene.lights, float(scene.geo[rc.G_ZC])))
+        used.append("lamps")
+    for _ in range(int(rng.poisson(0.8 if scene.style.get("room") != "arena" else 0.2))):
+        ang = rng.uniform(-np.pi, np.pi)
+        reach = scene.rail_width + rng.uniform(0.4, 2.0)
+        xy = spec.size / 2 + (spec.size / 2 + reach) * np.array([np.cos(ang), np.sin(ang)])
+        people.draw_figure(img, mask, depth, cam, props.bar_stool(rng, xy, scene.floor_z))
+        used.append("stool")
+    if rng.random() < 0.08:
+        xy = rng.uniform([0.2, 0.2], spec.size - 0.2)
+        people.draw_figure(img, mask, depth, cam, props.triangle_rack(rng, xy, 0.02, rng.uniform(0.3, 0.36)))
+        used.append("rack")
+    if scene.style.get("room") == "pub" and rng.random() < 0.25:
+        for _ in range(int(rng.integers(1, 3))):
+            k = int(rng.integers(4))
+            s = rng.uniform(0.05, 0.95)
+            off = scene.geo[rc.G_CW] + (scene.rail_width - scene.geo[rc.G_CW]) * 0.5
+            xy = [(s * spec.length, -off), (spec.length + off, s * spec.width), (s * spec.length, spec.width + off),
+                  (-off, s * spec.width)][k]  # fmt: skip
+            people.draw_figure(img, mask, depth, cam, props.glass(rng, np.array([*xy, scene.geo[rc.G_HR]])), 0.5)
+        used.append("glasses")
+    if len(centres) and rng.random() < 0.4 * strength:
+        cue_i = scene.layout.cue_index
+        i = cue_i if cue_i is not None and rng.random() < 0.75 else int(rng.integers(len(centres)))
+        body, cue = people.shooting_player(
+            rng, centres[i, :2], spec.size, scene.rail_width, scene.floor_z, spec.ball_radius
+        )
+        people.draw_figure(img, mask, depth, cam, cue, gloss=0.4)
+        if rng.random() < 0.85 and _clearance(body, cam) > 0.5:
+            people.draw_figure(img, mask, depth, cam, body)
+            used.append("player")
         used.append("cue_stick")
-        if rng.random() < 0.5:
-            fx.draw_arm(img, mask, rng, cam.project(centres[i]))
-            used.append("arm")
-    if rng.random() < (0.3 if phone else 0.18) * strength:
-        fx.draw_person(img, mask, rng)
+    n_people = int(rng.poisson((0.9 if phone else 0.5) * strength))
+    for _ in range(min(n_people, 4)):
+        people.draw_figure(
+            img, mask, depth, cam, people.standing_person(rng, spec.size, scene.rail_width, scene.floor_z)
+        )
         used.append("person")
-    if rng.random() < 0.1 * strength:
+    if rng.random() < 0.12 * strength:  # a cue lying on the table or leaning over a rail
+        xy = rng.uniform([0.1, 0.1], spec.size - 0.1)
+        a = rng.uniform(0, 2 * np.pi)
+        tip = np.array([xy[0], xy[1], 0.015])
+        rise = 0.0 if rng.random() < 0.5 else rng.uniform(0.05, 0.6)
+        people.draw_figure(img, mask, depth, cam, people.cue_capsules(rng, tip, np.array([np.cos(a), np.sin(a)]), rise))
+        used.append("cue_stick")
+    if phone and rng.random() < 0.06 * strength:
         fx.draw_arm(img, mask, rng, None)
         used.append("arm")
     if rng.random() < 0.25 * strength:
-        spec = scene.spec
         k = int(rng.integers(4))
         s = rng.uniform(0.05, 0.95)
         off = scene.geo[rc.G_CW] + (scene.rail_width - scene.geo[rc.G_CW]) * rng.uniform(0.2, 0.8)
@@ -149,10 +222,11 @@ def _add_occluders(
               (-off, s * spec.width)][k]  # fmt: skip
         fx.draw_chalk(img, mask, rng, cam, np.array([xy[0], xy[1], scene.geo[rc.G_HR]]))
         used.append("chalk")
-    if not phone and rng.random() < 0.3 * strength:
+    broadcast = scene.style.get("room") == "arena"
+    if not phone and rng.random() < (0.45 if broadcast else 0.08) * strength:
         fx.draw_scoreboard(img, mask, rng)
         used.append("scoreboard")
-    if rng.random() < 0.15 * strength:
+    if rng.random() < (0.25 if broadcast else 0.04) * strength:
         fx.draw_logo(img, mask, rng)
         used.append("logo")
     return mask, used
@@ -162,10 +236,10 @@ def render_scene_view(
     scene: Scene, cam: PinholeCamera, kind: str, rng: np.random.Generator, strength: float = 1.0
 ) -> Render:
     """Render ``scene`` through ``cam`` with occluders and the camera pipeline drawn from ``rng``."""
-    raw, ids, sil = trace(scene, cam)
+    raw, ids, depth, sil = trace(scene, cam)
     exposure = _exposure(scene, raw, ids) * rng.uniform(0.75, 1.3)
     img = fx.tone_map(raw, exposure, rng.uniform(0.85, 1.2), rng.uniform(0.75, 1.25))
-    occluded, used = _add_occluders(img, scene, cam, kind, rng, strength)
+    occluded, used = _add_occluders(img, depth, scene, cam, kind, rng, strength)
     image, pipeline = fx.camera_pipeline(img, rng, strength)
     labels = build_labels(scene, cam, ids, occluded, sil)
     labels["image_size"] = list(cam.image_size)
@@ -194,6 +268,8 @@ def render(seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, camera_kind: str | 
     layout, mode = sample_layout(r_layout, spec)
     scene = sample_scene(r_scene, layout)
     cam, kind = sample_camera(r_cam, spec, size, camera_kind, scene.floor_z, scene.rail_width)
+    if r_cam.random() < STRETCH_PROBABILITY:
+        cam = stretch_pixels(cam, float(np.exp(r_cam.uniform(np.log(0.75), np.log(1.33)))))
     out = render_scene_view(scene, cam, kind, r_fx)
     out.labels["layout_mode"] = mode
     out.labels["seed"] = [int(seed)] if np.isscalar(seed) else [int(s) for s in seed]
@@ -223,7 +299,7 @@ def render_views(seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, views: Sequen
     scene = sample_scene(r_scene, layout)
     out = []
     for view in views:
-        cam, kind = sample_camera(r_cam, spec, size, view, scene.floor_z, scene.rail_width)
+        cam, kind = sample_camera(r_cam, spec, size, view, scene.floor_z, scene.rail_width, crop=False)
         rend = render_scene_view(scene, cam, kind, r_fx, strength=0.3)
         rend.labels["layout_mode"] = mode
         rend.labels["view"] = view

@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Runs the planner numbers of docs/benchmarks-planner.md one after another (one core, background-friendly).
+# Usage: bash benchmarks/run_planner_benchmarks.sh OUT_DIR N_ORACLE N_SEARCH N_OTHER
+set -u
+OUT=${1:-benchmarks/results}
+NO=${2:-1000}
+NS=${3:-300}
+NR=${4:-300}
+export OMP_NUM_THREADS=1 PYTHONPATH=src
+PY=${PY:-/work/venv/bin/python}
+mkdir -p "$OUT"
+ev() { # name args...
+  local name=$1; shift
+  echo "=== $name: $*"
+  $PY -m pix2pockets evaluate planner "$@" --no-progress --json "$OUT/$name.json" || echo "FAILED $name"
+}
+ev "event-none-search" --planner search --balls 16 --layouts $NS --seed 0 --noise none --physics event
+ev "event-fastfiz-search" --planner search --balls 16 --layouts $NS --seed 0 --noise fastfiz --physics event
+for p in oracle oracle-mirror; do
+  ev "event-none-$p" --planner $p --balls 16 --layouts $NO --seed 0 --noise none --physics event
+  ev "event-fastfiz-$p" --planner $p --balls 16 --layouts $NO --seed 0 --noise fastfiz --physics event
+done
+for p in oracle-rand-max oracle-rand-max-mirror oracle-rand-rand oracle-rand-rand-mirror; do
+  ev "event-none-$p" --planner $p --balls 16 --layouts $NR --seed 0 --noise none --physics event
+done
+for p in oracle oracle-mirror; do
+  ev "pymunk-none-$p" --planner $p --balls 16 --layouts $NR --seed 0 --noise none --physics pymunk
+done
+echo "=== aim-precision"
+$PY -m pix2pockets experiment aim-precision --planners oracle oracle-mirror --layouts 400 --json "$OUT/aim-precision-oracle.json"
+echo "=== ball-shift"
+$PY -m pix2pockets experiment ball-shift --planners oracle oracle-mirror search --layouts 400 --json "$OUT/ball-shift.json"
+echo "=== decision time"
+$PY benchmarks/planner_decision_time.py --layouts 50 --json "$OUT/decision-time.json"
+echo "=== aim-precision search"
+$PY -m pix2pockets experiment aim-precision --planners search --layouts 100 --json "$OUT/aim-precision-search.json"
+echo "=== done"

@@ -1,0 +1,141 @@
+"""``pix2pockets suggest``: the best shot for a photo of a pool table, drawn and as JSON."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import tempfile
+from importlib import resources
+from pathlib import Path
+
+EXAMPLE_PHOTO = "table_example.jpg"
+EXAMPLE_LABELS = "table_example.labels.json"
+IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".webp")
+
+
+def example_photo_path() -> str:
+    """Path of the bundled example photo."""
+    return str(resources.files("pix2pockets.data.examples").joinpath(EXAMPLE_PHOTO))
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    parser = sub.add_parser(
+        "suggest",
+        help="suggest the best shot for a photo of a pool table",
+        description="Detect balls and diamonds, fit the table, locate the balls, plan and draw the best shot.",
+    )
+    parser.add_argument("image", nargs="?", help="photo of the table (default: the bundled example)")
+    parser.add_argument(
+        "--group", choices=["solids", "stripes", "auto"], default="auto", help="your group (auto: the better shot)"
+    )
+    parser.add_argument("--out", help="write the result picture here (.png or .jpg)")
+    parser.add_argument("--json", dest="json_out", help="write the result as JSON here ('-' for stdout)")
+    parser.add_argument("--model", help="detector ONNX model (default: the bundled one)")
+    parser.add_argument(
+        "--agent", help="plan with a trained RL agent file (pix2pockets rl train) instead of the search planner"
+    )
+    parser.add_argument("--method", choices=["sphere", "contact", "linear"], default="sphere", help="ball location")
+    parser.add_argument("--table", choices=["9ft", "8ft", "7ft"], default="9ft", help="table size (default 9ft)")
+    parser.add_argument("--force", action="store_true", help="overwrite existing output files")
+    parser.set_defaults(func=run)
+
+
+def check_output(path: str | None, force: bool, suffixes: tuple[str, ...] | None = None) -> None:
+    """Refuse outputs that would overwrite a file (without ``force``), sit in a missing folder, or have
+    an unsupported suffix."""
+    if path is None or path == "-":
+        return
+    p = Path(path)
+    if suffixes and p.suffix.lower() not in suffixes:
+        raise ValueError(f"output {path}: unsupported file type (use one of {', '.join(suffixes)})")
+    if p.is_dir():
+        raise ValueError(f"output {path} is a directory")
+    if not p.parent.exists():
+        raise ValueError(f"output folder {p.parent} does not exist")
+    if p.exists() and not force:
+        raise ValueError(f"output {path} exists; use --force to overwrite it")
+
+
+def write_atomic(path: str, data: bytes) -> None:
+    """Write ``data`` to ``path`` via a temporary file in the same folder and a rename."""
+    target = Path(path)
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
+    try:
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(data)
+        os.replace(tmp, target)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def encode_image(rgb, suffix: str) -> bytes:
+    import cv2
+
+    ok, buf = cv2.imencode(suffix if suffix != ".jpeg" else ".jpg", rgb[:, :, ::-1].copy())
+    if not ok:
+        raise ValueError(f"could not encode the picture as {suffix}")
+    return buf.tobytes()
+
+
+def load_agent_planner(path: str):
+    """A planner backed by an RL agent file; clear errors for a missing file or a missing ``rl`` extra."""
+    try:
+        from pix2pockets.rl.agent import AgentPlanner, load_agent
+    except ImportError as err:
+        raise ValueError(f"--agent needs the 'rl' extra (pip install '.[rl]'): {err}") from None
+    try:
+        return AgentPlanner(load_agent(path))
+    except ImportError as err:
+        raise ValueError(f"--agent needs the 'rl' extra (pip install '.[rl]'): {err}") from None
+
+
+def run(args: argparse.Namespace) -> int:
+    check_output(args.out, args.force, IMAGE_SUFFIXES)
+    check_output(args.json_out, args.force)
+    if (
+        args.out
+        and args.json_out
+        and args.json_out != "-"
+        and Path(args.out).resolve() == Path(args.json_out).resolve()
+    ):
+        raise ValueError("--out and --json must be different files")
+    image = args.image or example_photo_path()
+    if args.image is None and not Path(image).is_file():
+        raise ValueError("no IMAGE given and the bundled example photo is missing from this build")
+
+    from pix2pockets.pipeline.draw import render_result
+    from pix2pockets.pipeline.photo import load_image, suggest
+
+    detector = None
+    if args.model:
+        from pix2pockets.vision.onnx_detector import OnnxDetector
+
+        detector = OnnxDetector(args.model)
+    planner = load_agent_planner(args.agent) if args.agent else None
+    rgb = load_image(image)
+    from pix2pockets.geometry import table_preset
+
+    result = suggest(
+        rgb,
+        group=args.group,
+        detector=detector,
+        planner=planner,
+        spec=table_preset(args.table),
+        locate_method=args.method,
+    )
+    # everything is computed before anything is written: errors leave no partial outputs
+    picture = encode_image(render_result(rgb, result), Path(args.out).suffix.lower()) if args.out else None
+    doc = result.to_dict()
+    doc["image"]["path"] = str(image)
+    text = json.dumps(doc, indent=2)
+    if picture is not None:
+        write_atomic(args.out, picture)
+    if args.json_out == "-":
+        print(text)
+    elif args.json_out:
+        write_atomic(args.json_out, (text + "\n").encode())
+    if args.json_out != "-":
+        print(result.text)
+    return 0

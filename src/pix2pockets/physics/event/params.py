@@ -1,0 +1,101 @@
+"""Physical parameters of the event-based simulator."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+# Index of each parameter in the packed float array the compiled kernels read.
+P_MU_SLIDE, P_MU_ROLL, P_MU_SPIN, P_E_BALL, P_E_CUSHION, P_MU_CUSHION, P_G, P_R = range(8)
+P_V_SETTLE = 8
+P_CUSHION_SIN = 9  # sine of the angle between the cushion contact normal and the table plane
+N_PARAMS = 10
+
+SPIN_FRICTION_PER_METRE = 10.0 * 2.0 / (5.0 * 9.0)
+"""pooltool's spinning-friction proportionality [1/m]: ``mu_spin = SPIN_FRICTION_PER_METRE * R``."""
+
+
+@dataclass(frozen=True, slots=True)
+class PhysicsParams:
+    """Ball, cloth and cushion constants (SI units). Defaults are pooltool 0.6.0's.
+
+    Attributes:
+        mu_slide: ball-cloth sliding friction coefficient [-] (0.2).
+        mu_roll: ball-cloth rolling resistance coefficient [-] (0.01).
+        mu_spin: ball-cloth spinning friction coefficient [-]; ``None`` means pooltool's rule
+            ``10 * 2 / (5 * 9) * R`` with ``R`` the ball radius in metres (about 0.0127 for a 57.15 mm
+            ball), so the z-spin decays at ``5 * mu_spin * g / (2 R)`` [rad/s^2] (about 10.9 rad/s^2).
+        e_ball: ball-ball coefficient of restitution [-] (0.95).
+        e_cushion: ball-cushion (and jaw) coefficient of restitution [-] (0.85).
+        mu_cushion: ball-cushion Coulomb friction coefficient [-] (0.2).
+        g: gravitational acceleration [m/s^2] (9.81).
+        settle_speed: a cushion or ball-ball impact slower than this is perfectly inelastic along the
+            normal and also loses the spin that would drive the ball back into the contact [m/s]. It
+            ends the otherwise endless sequence of ever-smaller bounces of a ball pressed into a rail.
+        max_events: maximum number of events in one shot; exceeding it raises ``RuntimeError``
+            (``simulate``) or flags the shot (lean batch), so no shot can hang.
+
+    References:
+        pooltool 0.6.0 default ball and table parameters and their sources:
+        https://pooltool.readthedocs.io (Ball parameters; "spinning friction" proportionality);
+        W. Leckie and M. Greenspan, "An event-based pool physics simulator", Advances in Computer
+        Games 11, 2006 (the sliding/rolling/spinning motion equations used here);
+        R. Kolbe, "Billiards physics" notes / Alciatore, "The Illustrated Principles of Pool and
+        Billiards" (2004) for the typical 0.2 / 0.01 friction and 0.95 restitution values.
+    """
+
+    mu_slide: float = 0.2
+    mu_roll: float = 0.01
+    mu_spin: float | None = None
+    e_ball: float = 0.95
+    e_cushion: float = 0.85
+    mu_cushion: float = 0.2
+    g: float = 9.81
+    settle_speed: float = 1e-3
+    max_events: int = 20_000
+
+    def __post_init__(self) -> None:
+        for name in ("mu_slide", "mu_roll", "g", "settle_speed"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                raise ValueError(f"PhysicsParams.{name} must be a positive number, got {value!r}")
+        if self.mu_spin is not None and not (math.isfinite(self.mu_spin) and self.mu_spin > 0):
+            raise ValueError(f"PhysicsParams.mu_spin must be positive or None, got {self.mu_spin!r}")
+        if self.mu_cushion < 0 or not math.isfinite(self.mu_cushion):
+            raise ValueError(f"PhysicsParams.mu_cushion must be >= 0, got {self.mu_cushion!r}")
+        for name in ("e_ball", "e_cushion"):
+            value = getattr(self, name)
+            if not 0.0 <= value <= 1.0:
+                raise ValueError(f"PhysicsParams.{name} must be in [0, 1], got {value!r}")
+        if int(self.max_events) != self.max_events or self.max_events < 10:
+            raise ValueError(f"PhysicsParams.max_events must be an integer >= 10, got {self.max_events!r}")
+
+    def spin_friction(self, ball_radius: float) -> float:
+        """The spinning friction coefficient for balls of ``ball_radius`` [m]."""
+        return SPIN_FRICTION_PER_METRE * ball_radius if self.mu_spin is None else self.mu_spin
+
+    def packed(self, ball_radius: float, cushion_height: float | None = None) -> np.ndarray:
+        """The parameters as the float array the compiled kernels read (``P_*`` indices).
+
+        Args:
+            ball_radius: ball radius ``R`` [m].
+            cushion_height: height of the cushion nose above the cloth [m]; the contact normal then
+                tilts down by ``asin((h - R) / R)``. ``None`` puts the contact on the ball's equator.
+        """
+        out = np.empty(N_PARAMS)
+        out[P_MU_SLIDE] = self.mu_slide
+        out[P_MU_ROLL] = self.mu_roll
+        out[P_MU_SPIN] = self.spin_friction(ball_radius)
+        out[P_E_BALL] = self.e_ball
+        out[P_E_CUSHION] = self.e_cushion
+        out[P_MU_CUSHION] = self.mu_cushion
+        out[P_G] = self.g
+        out[P_R] = ball_radius
+        out[P_V_SETTLE] = self.settle_speed
+        sin_tilt = 0.0 if cushion_height is None else (cushion_height - ball_radius) / ball_radius
+        if not -1.0 < sin_tilt < 1.0:
+            raise ValueError(f"cushion height {cushion_height} m must be between 0 and 2 R = {2 * ball_radius} m")
+        out[P_CUSHION_SIN] = sin_tilt
+        return out

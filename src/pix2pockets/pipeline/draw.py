@@ -1,0 +1,170 @@
+"""The result picture: the photo with the shot drawn in perspective, a top-down diagram, a text line.
+
+Everything is drawn with OpenCV primitives and its built-in Hershey font (nothing is downloaded).
+Colours are RGB.
+"""
+
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+
+from pix2pockets.geometry.camera import PinholeCamera
+from pix2pockets.geometry.raster import TableRaster
+from pix2pockets.pipeline.result import Suggestion
+
+CUE_PATH = (255, 255, 255)
+OBJECT_PATH = (255, 210, 0)
+GHOST = (255, 255, 255)
+TABLE_LINE = (120, 255, 120)
+CLOTH = (22, 92, 150)
+RAIL = (92, 56, 30)
+POCKET = (15, 15, 15)
+BALL_COLOURS = {"cue": (245, 245, 240), "black": (20, 20, 20), "solid": (230, 190, 20), "stripe": (200, 40, 40)}
+TEXT_BAND = 44  # [px]
+
+
+def _cv2():
+    import cv2
+
+    return cv2
+
+
+def _sphere_outline(camera: PinholeCamera, centre_xy: np.ndarray, radius: float, n: int = 600) -> np.ndarray:
+    """Image outline (convex hull) of a ball at ``centre_xy`` [m] resting on the cloth, int32 (k, 1, 2)."""
+    cv2 = _cv2()
+    rng = np.random.default_rng(0)
+    d = rng.normal(size=(n, 3))
+    d /= np.linalg.norm(d, axis=1)[:, None]
+    pts = camera.project(np.array([centre_xy[0], centre_xy[1], radius]) + radius * d)
+    pts = pts[np.all(np.isfinite(pts), axis=1)]
+    return cv2.convexHull(np.round(pts).astype(np.int32))
+
+
+def _project_path(camera: PinholeCamera, path: np.ndarray, z: float, samples: int = 20) -> np.ndarray:
+    """A table polyline [m] at height ``z`` projected into the image (densely sampled), int32 (k, 1, 2)."""
+    if len(path) < 2:
+        return np.zeros((0, 1, 2), dtype=np.int32)
+    pts = []
+    for a, b in itertools.pairwise(path):
+        s = np.linspace(0.0, 1.0, samples)[:, None]
+        pts.append(a + s * (b - a))
+    uv = camera.project_table(np.vstack(pts), z)
+    uv = uv[np.all(np.isfinite(uv), axis=1)]
+    return np.round(uv).astype(np.int32).reshape(-1, 1, 2)
+
+
+def _arrow_head(img: np.ndarray, poly: np.ndarray, colour: tuple, size: int) -> None:
+    """Two short strokes at the end of a polyline (int32 (k, 1, 2)), ``size`` [px] long."""
+    cv2 = _cv2()
+    pts = poly.reshape(-1, 2).astype(float)
+    if len(pts) < 2:
+        return
+    end = pts[-1]
+    back = pts[:-1][np.linalg.norm(pts[:-1] - end, axis=1) > 1.0]
+    if not len(back):
+        return
+    d = end - back[-1]
+    d /= np.linalg.norm(d)
+    for sign in (1.0, -1.0):
+        c, s_ = np.cos(sign * 2.6), np.sin(sign * 2.6)
+        tip = end + size * np.array([c * d[0] - s_ * d[1], s_ * d[0] + c * d[1]])
+        cv2.line(img, tuple(int(v) for v in end), tuple(int(v) for v in tip), colour, 2, cv2.LINE_AA)
+
+
+def draw_photo(rgb: np.ndarray, result: Suggestion) -> np.ndarray:
+    """The photo with the table outline, the ball markers and the shot drawn in perspective."""
+    cv2 = _cv2()
+    img = np.ascontiguousarray(rgb.copy())
+    cam: PinholeCamera = result.camera  # type: ignore[assignment]
+    spec = result.spec
+    R = spec.ball_radius
+    thick = max(2, round(img.shape[1] / 640))
+    corners = np.round(result.corners_px).astype(np.int32).reshape(-1, 1, 2)
+    cv2.polylines(img, [corners], True, TABLE_LINE, 1, cv2.LINE_AA)
+    for ball, xy in zip(result.balls, result.layout.positions, strict=True):
+        c = tuple(round(v) for v in ball.contact_px)
+        cv2.circle(img, c, thick + 1, BALL_COLOURS[ball.ball_class], -1, cv2.LINE_AA)
+        del xy
+    shot = result.shot
+    cue_poly = _project_path(cam, shot.cue_path, R)
+    obj_poly = _project_path(cam, shot.object_path, R)
+    if len(cue_poly):
+        cv2.polylines(img, [cue_poly], False, CUE_PATH, thick, cv2.LINE_AA)
+        _arrow_head(img, cue_poly, CUE_PATH, 6 * thick)
+    if len(obj_poly):
+        cv2.polylines(img, [obj_poly], False, OBJECT_PATH, thick, cv2.LINE_AA)
+        _arrow_head(img, obj_poly, OBJECT_PATH, 6 * thick)
+    if shot.ghost is not None:
+        cv2.polylines(img, [_sphere_outline(cam, shot.ghost, R)], True, GHOST, thick, cv2.LINE_AA)
+    if shot.target_ball is not None:
+        target_xy = result.layout.positions[shot.target_ball]
+        cv2.polylines(img, [_sphere_outline(cam, target_xy, R * 1.35)], True, OBJECT_PATH, thick, cv2.LINE_AA)
+    return img
+
+
+def draw_diagram(result: Suggestion, height: int) -> np.ndarray:
+    """A top-down diagram of the located layout with the shot, ``height`` pixels tall."""
+    cv2 = _cv2()
+    spec = result.spec
+    margin_frac = 0.06
+    # width from the table's aspect so the diagram is `height` tall
+    width = round(height / (spec.width / spec.length * (1 - 2 * margin_frac) + 2 * margin_frac))
+    raster = TableRaster.fit(spec, width, margin_frac)
+    w, h = raster.window_px
+    img = np.full((h, w, 3), RAIL, dtype=np.uint8)
+    m = raster.margin_px
+    cv2.rectangle(
+        img, (int(m[0]), int(m[1])), (int(m[0] + raster.surface_px[0]), int(m[1] + raster.surface_px[1])), CLOTH, -1
+    )
+    px = raster.length_to_pixels
+    for pocket in spec.pockets:
+        c = tuple(round(v) for v in raster.table_to_pixels(pocket.centre))
+        cv2.circle(img, c, max(3, int(px(pocket.capture_radius * 0.8))), POCKET, -1, cv2.LINE_AA)
+    for d in spec.diamonds:
+        c = tuple(round(v) for v in raster.table_to_pixels(d))
+        cv2.circle(img, c, 2, (230, 230, 230), -1, cv2.LINE_AA)
+    r = max(3, round(px(spec.ball_radius)))
+    thick = max(1, r // 4)
+    shot = result.shot
+    for path, colour in ((shot.cue_path, CUE_PATH), (shot.object_path, OBJECT_PATH)):
+        if len(path) >= 2:
+            poly = np.round(raster.table_to_pixels(path)).astype(np.int32).reshape(-1, 1, 2)
+            cv2.polylines(img, [poly], False, colour, thick, cv2.LINE_AA)
+            _arrow_head(img, poly, colour, 3 * r)
+    for ball, xy in zip(result.balls, result.layout.positions, strict=True):
+        c = tuple(round(v) for v in raster.table_to_pixels(xy))
+        colour = BALL_COLOURS[ball.ball_class]
+        if ball.ball_class == "stripe":
+            cv2.circle(img, c, r, (245, 245, 240), -1, cv2.LINE_AA)
+            cv2.circle(img, c, max(1, r // 2), colour, -1, cv2.LINE_AA)
+        else:
+            cv2.circle(img, c, r, colour, -1, cv2.LINE_AA)
+        cv2.circle(img, c, r, (0, 0, 0), 1, cv2.LINE_AA)
+    if shot.ghost is not None:
+        c = tuple(round(v) for v in raster.table_to_pixels(shot.ghost))
+        cv2.circle(img, c, r, GHOST, 1, cv2.LINE_AA)
+    if shot.target_ball is not None:
+        c = tuple(round(v) for v in raster.table_to_pixels(result.layout.positions[shot.target_ball]))
+        cv2.circle(img, c, int(r * 1.5), OBJECT_PATH, thick, cv2.LINE_AA)
+    if img.shape[0] != height:
+        img = cv2.resize(img, (img.shape[1], height), interpolation=cv2.INTER_AREA)
+    return img
+
+
+def render_result(rgb: np.ndarray, result: Suggestion) -> np.ndarray:
+    """Photo with the shot, the top-down diagram beside it, and the text line below: RGB uint8."""
+    cv2 = _cv2()
+    photo = draw_photo(rgb, result)
+    diagram = draw_diagram(result, photo.shape[0])
+    h = photo.shape[0]
+    canvas = np.full((h + TEXT_BAND, photo.shape[1] + diagram.shape[1], 3), 24, dtype=np.uint8)
+    canvas[:h, : photo.shape[1]] = photo
+    canvas[: diagram.shape[0], photo.shape[1] :] = diagram
+    text = result.text.encode("ascii", "replace").decode()
+    scale = max(0.5, min(1.0, canvas.shape[1] / 2200))
+    cv2.putText(
+        canvas, text, (12, h + TEXT_BAND - 14), cv2.FONT_HERSHEY_SIMPLEX, scale, (255, 255, 255), 1, cv2.LINE_AA
+    )
+    return canvas

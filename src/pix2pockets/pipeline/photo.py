@@ -1,0 +1,149 @@
+"""Photo -> suggestion: detect, post-process, fit the table, locate the balls, plan.
+
+Example:
+    >>> import pix2pockets
+    >>> s = pix2pockets.suggest("table.jpg", group="auto")  # doctest: +SKIP
+    >>> s.text  # doctest: +SKIP
+    'solid ball at (1.92, 0.41) m -> top-right pocket, direct, power 12/30, 81% chance (solids)'
+"""
+
+from __future__ import annotations
+
+import functools
+import time
+from pathlib import Path
+
+import numpy as np
+
+from pix2pockets.geometry.raster import table_to_env_pixels
+from pix2pockets.geometry.table import TableSpec
+from pix2pockets.pipeline.planning import ShotPlanner, default_planner, plan_shot
+from pix2pockets.pipeline.result import LocatedBall, Suggestion
+from pix2pockets.vision.ball_location import LocateMethod, locate_balls
+from pix2pockets.vision.base import Detector
+from pix2pockets.vision.classes import CLASS_NAMES
+from pix2pockets.vision.detections import Detections
+from pix2pockets.vision.image_io import read_image_rgb
+from pix2pockets.vision.postprocess import postprocess
+from pix2pockets.vision.table_fit import fit_table
+
+MIN_IMAGE_SIDE = 64  # [px]
+# Minimum confidence per class id (cue, black, solid, stripe, dot). Cue and black are capped at one
+# detection each by post-processing, so a lower bar costs at most one false ball and keeps a faint cue.
+MIN_CONFIDENCE = np.array([0.15, 0.15, 0.3, 0.3, 0.25])
+
+
+@functools.lru_cache(maxsize=1)
+def default_detector() -> Detector:
+    """The bundled ONNX detector, loaded once per process.
+
+    Raises:
+        ValueError: when the model file is missing or unreadable.
+    """
+    from pix2pockets.vision.onnx_detector import OnnxDetector
+
+    try:
+        return OnnxDetector.from_default()
+    except ValueError as err:
+        raise ValueError(
+            f"{err} (pass a model with --model / detector=, or train one: pix2pockets train-detector)"
+        ) from None
+
+
+def load_image(image: str | Path | np.ndarray) -> np.ndarray:
+    """An RGB uint8 image (H, W, 3) from a path or an array, with clear errors."""
+    if isinstance(image, (str, Path)):
+        rgb = read_image_rgb(image)
+    else:
+        rgb = np.asarray(image)
+        if rgb.ndim == 2:
+            rgb = np.repeat(rgb[:, :, None], 3, axis=2)
+        if rgb.dtype != np.uint8 or rgb.ndim != 3 or rgb.shape[2] not in (3, 4):
+            raise ValueError(f"expected an RGB uint8 image (H, W, 3), got {rgb.dtype} {rgb.shape}")
+        rgb = rgb[:, :, :3]
+    h, w = rgb.shape[:2]
+    if min(h, w) < MIN_IMAGE_SIDE:
+        raise ValueError(f"image is too small ({w}x{h} px); need at least {MIN_IMAGE_SIDE} px per side")
+    return np.ascontiguousarray(rgb)
+
+
+def clean_detections(det: Detections) -> Detections:
+    """Post-process raw detections: NMS and class caps, then per-class confidence thresholds."""
+    det = postprocess(det)
+    keep = det.confidence >= MIN_CONFIDENCE[det.class_id]
+    return det[keep]
+
+
+def suggest(
+    image: str | Path | np.ndarray,
+    group: str = "auto",
+    detector: Detector | None = None,
+    planner: ShotPlanner | None = None,
+    spec: TableSpec | None = None,
+    locate_method: LocateMethod | str = LocateMethod.SPHERE,
+    rng: np.random.Generator | None = None,
+) -> Suggestion:
+    """The best shot for a photo of a pool table.
+
+    Args:
+        image: a path to an image file, or an RGB uint8 array (H, W, 3).
+        group: ``solids``, ``stripes`` or ``auto`` (the group with the better shot).
+        detector: the detector (default: the bundled ONNX model).
+        planner: the shot planner (default: :func:`pix2pockets.pipeline.planning.default_planner`).
+        spec: the table (default 9-foot).
+        locate_method: ball location method (``sphere``, ``contact`` or ``linear``).
+        rng: randomness for the planner (a fixed seed when ``None``).
+
+    Raises:
+        ValueError: unreadable image, no table found, too few table points, no cue ball, no balls of the
+            group (with a one-line reason).
+    """
+    spec = spec or TableSpec()
+    timings: dict[str, float] = {}
+    t0 = time.perf_counter()
+    rgb = load_image(image)
+    h, w = rgb.shape[:2]
+    timings["load"] = time.perf_counter() - t0
+
+    t = time.perf_counter()
+    detector = detector or default_detector()
+    raw = detector.detect(rgb)
+    timings["detect"] = time.perf_counter() - t
+
+    t = time.perf_counter()
+    det = clean_detections(raw)
+    fit = fit_table(det, (w, h), spec)
+    timings["fit"] = time.perf_counter() - t
+
+    t = time.perf_counter()
+    located = locate_balls(fit.camera, det, spec, locate_method)
+    layout = located.to_layout(spec)
+    if layout.cue_index is None:
+        raise ValueError("no cue ball found on the table")
+    timings["locate"] = time.perf_counter() - t
+
+    t = time.perf_counter()
+    planner = planner or default_planner()
+    advice = plan_shot(layout, group, planner, rng)
+    timings["plan"] = time.perf_counter() - t
+
+    balls = tuple(
+        LocatedBall(
+            CLASS_NAMES[int(c)],
+            float(conf),
+            tuple(float(v) for v in box),
+            tuple(float(v) for v in contact),
+            tuple(float(v) for v in xy),
+            tuple(float(v) for v in table_to_env_pixels(xy, spec)),
+        )
+        for c, conf, box, contact, xy in zip(
+            located.detections.class_id,
+            located.detections.confidence,
+            located.detections.boxes,
+            located.contact_px,
+            layout.positions,
+            strict=True,
+        )
+    )
+    timings["total"] = time.perf_counter() - t0
+    return Suggestion((w, h), fit.corners_px, fit.homography, balls, advice, layout, fit.camera, timings)

@@ -1,0 +1,154 @@
+"""The planning step of the photo pipeline: a planner slot and the shot's paths for drawing.
+
+Any object with the shape of :class:`pix2pockets.planner.Planner` fits (``suggest(layout, state, rng)``
+returning ranked candidates that carry ``shot``, ``target``, ``pocket``, ``kind``,
+``success_probability``, ``value``, ``hitpoint`` and ``safety``).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
+
+from pix2pockets.geometry.table import TableSpec
+from pix2pockets.pipeline.result import ShotAdvice
+from pix2pockets.rules import GameState
+from pix2pockets.state import BallClass, Group, Shot, TableLayout
+
+
+@runtime_checkable
+class ShotPlanner(Protocol):
+    """Layout + game state -> ranked shot candidates, best first."""
+
+    def suggest(self, layout: TableLayout, state: GameState, rng: np.random.Generator | None = None) -> list: ...
+
+
+def default_planner(time_budget: float | None = 0.5) -> ShotPlanner:
+    """The project's default planner: :class:`pix2pockets.planner.search.SearchPlanner` (event physics,
+    FastFiz-like execution noise) with a wall-clock budget of ``time_budget`` [s] per group.
+
+    Raises:
+        ValueError: when the planner cannot be built in this installation.
+    """
+    try:
+        from pix2pockets.planner.search import SearchConfig, SearchPlanner
+    except ImportError as err:  # pragma: no cover - depends on the build
+        raise ValueError(f"no shot planner available: {err}") from None
+    return SearchPlanner(SearchConfig(time_budget=time_budget))
+
+
+def _rail_hit(start: np.ndarray, angle: float, spec: TableSpec) -> np.ndarray:
+    """Where a ball centre leaving ``start`` in direction ``angle`` first reaches a cushion [m]."""
+    R = spec.ball_radius
+    d = np.array([math.cos(angle), math.sin(angle)])
+    ts = []
+    for axis, lo, hi in ((0, R, spec.length - R), (1, R, spec.width - R)):
+        if abs(d[axis]) > 1e-12:
+            for bound in (lo, hi):
+                t = (bound - start[axis]) / d[axis]
+                if t > 1e-9:
+                    ts.append(t)
+    t = min(ts) if ts else 0.0
+    return start + t * d
+
+
+def _value_of(candidate: Any) -> float:
+    p = getattr(candidate, "success_probability", None)
+    return float(p) if p is not None else float(getattr(candidate, "value", 0.0))
+
+
+def advice_from_candidate(candidate: Any, layout: TableLayout, group: Group) -> ShotAdvice:
+    """Turn a planner candidate into a :class:`ShotAdvice` with drawable paths."""
+    spec = layout.spec
+    R = spec.ball_radius
+    cue = layout.cue_index
+    if cue is None:
+        raise ValueError("no cue ball found on the table")
+    start = layout.positions[cue]
+    shot = candidate.shot
+    target = getattr(candidate, "target", None)
+    pocket = getattr(candidate, "pocket", None)
+    kind = getattr(candidate, "kind", None)
+    kind = None if kind is None else str(getattr(kind, "value", kind))
+    safety = bool(getattr(candidate, "safety", False)) or target is None or pocket is None
+    hp = getattr(candidate, "hitpoint", None)
+    ghost = None
+    if not safety:
+        ball = layout.positions[target]
+        aim = spec.pockets[pocket].aim
+        if hp is not None:
+            ghost = np.asarray(hp.ghost, dtype=float)
+            object_angle = float(hp.object_angle)
+        else:
+            u = (aim - ball) / np.linalg.norm(aim - ball)
+            ghost = ball - 2 * R * u
+            object_angle = math.atan2(u[1], u[0])
+        if kind == "kick":
+            cue_path = np.array([start, _rail_hit(start, shot.angle, spec), ghost])
+        else:
+            cue_path = np.array([start, ghost])
+        if kind == "bank":
+            object_path = np.array([ball, _rail_hit(ball, object_angle, spec), aim])
+        else:
+            object_path = np.array([ball, aim])
+    else:
+        end = _rail_hit(start, shot.angle, spec)
+        length = min(float(np.linalg.norm(end - start)), 1.0)
+        cue_path = np.array([start, start + length * np.array([math.cos(shot.angle), math.sin(shot.angle)])])
+        object_path = np.zeros((0, 2))
+    p = getattr(candidate, "success_probability", None)
+    return ShotAdvice(
+        target_ball=None if safety else int(target),
+        pocket=None if safety else spec.pockets[pocket].name,
+        kind=None if safety else kind,
+        cue_angle=float(shot.angle),
+        speed=float(shot.speed),
+        success_probability=None if p is None else float(p),
+        group=group.value,
+        cue_path=cue_path,
+        object_path=object_path,
+        ghost=ghost,
+        safety=safety,
+        stroke=shot if isinstance(shot, Shot) else None,
+    )
+
+
+def plan_shot(
+    layout: TableLayout, group: str | Group, planner: ShotPlanner, rng: np.random.Generator | None = None
+) -> ShotAdvice:
+    """Best shot for ``group`` (``solids``, ``stripes`` or ``auto``: the group with the better shot).
+
+    Raises:
+        ValueError: no cue ball, or no ball of the group (and no 8-ball) on the table.
+    """
+    if layout.cue_index is None:
+        raise ValueError("no cue ball found on the table")
+    have = {g: bool(layout.indices_of(g.ball_class)) for g in Group}
+    black = bool(layout.indices_of(BallClass.BLACK))
+    if str(group) == "auto":
+        groups = [g for g in Group if have[g]] or ([Group.SOLIDS] if black else [])
+        if not groups:
+            raise ValueError("no object balls found on the table (no solids, stripes or 8-ball)")
+    else:
+        try:
+            g = Group(str(group))
+        except ValueError:
+            raise ValueError(f"unknown group {group!r}; choose solids, stripes or auto") from None
+        if not have[g] and not black:
+            raise ValueError(f"no {g.value} (and no 8-ball) found on the table")
+        groups = [g]
+    best: tuple[float, ShotAdvice] | None = None
+    for g in groups:
+        candidates = planner.suggest(layout, GameState(group=g), rng)
+        if not candidates:
+            continue
+        cand = candidates[0]
+        advice = advice_from_candidate(cand, layout, g)
+        score = _value_of(cand) - (1e3 if advice.safety else 0.0)
+        if best is None or score > best[0]:
+            best = (score, advice)
+    if best is None:
+        raise ValueError("the planner found no shot")
+    return best[1]

@@ -1,0 +1,178 @@
+"""What the photo pipeline returns: located balls, the fitted table and the suggested shot.
+
+``Suggestion.to_dict()`` is the JSON written by ``pix2pockets suggest --json`` (documented in the README
+and ``docs/pipeline.md``).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pix2pockets.geometry.table import TableSpec
+from pix2pockets.state.layout import TableLayout
+from pix2pockets.state.shot import Shot
+
+MIN_SPEED = 0.2  # [m/s] power level 1 (the environment's ActionConfig.min_speed)
+MAX_SPEED = 8.0  # [m/s] power level 30 (ActionConfig.max_speed)
+N_POWER_LEVELS = 30
+
+
+def power_level(speed: float) -> int:
+    """The paper's power level (1-30) closest to a cue-ball speed [m/s]."""
+    frac = (speed - MIN_SPEED) / (MAX_SPEED - MIN_SPEED)
+    return int(np.clip(round(frac * (N_POWER_LEVELS - 1)) + 1, 1, N_POWER_LEVELS))
+
+
+@dataclass(frozen=True, slots=True)
+class LocatedBall:
+    """One ball found in the photo.
+
+    Attributes:
+        ball_class: ``cue``, ``black``, ``solid`` or ``stripe``.
+        confidence: detector score in [0, 1].
+        bbox_px: box ``x1, y1, x2, y2`` [px].
+        contact_px: where the ball touches the cloth, in the image [px].
+        table_xy_m: ball centre in the table frame [m].
+        env_xy_px: the same in the paper's environment pixels (735 x 410 window, see
+            :func:`pix2pockets.geometry.raster.table_to_env_pixels`).
+    """
+
+    ball_class: str
+    confidence: float
+    bbox_px: tuple[float, float, float, float]
+    contact_px: tuple[float, float]
+    table_xy_m: tuple[float, float]
+    env_xy_px: tuple[float, float] = (float("nan"), float("nan"))
+
+    def to_dict(self) -> dict:
+        return {
+            "class": self.ball_class,
+            "confidence": round(self.confidence, 4),
+            "bbox_px": [round(v, 2) for v in self.bbox_px],
+            "contact_px": [round(v, 2) for v in self.contact_px],
+            "table_xy_m": [round(v, 4) for v in self.table_xy_m],
+            "env_xy_px": [round(v, 2) for v in self.env_xy_px],
+        }
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class ShotAdvice:
+    """The suggested shot, in the table frame.
+
+    Attributes:
+        target_ball: index into ``Suggestion.balls`` of the object ball (``None`` for a safety).
+        pocket: pocket name (``TableSpec.pockets``), or ``None``.
+        kind: ``direct``, ``bank`` or ``kick`` (``None`` for a safety).
+        cue_angle: stroke direction [rad], counter-clockwise from +x.
+        speed: cue-ball speed [m/s].
+        success_probability: the planner's estimate in [0, 1] (``None`` when it gives none).
+        group: the group the shot was planned for.
+        cue_path: the cue ball's planned path [m], (k, 2): cue ball, (cushion,) ghost ball.
+        object_path: the object ball's planned path [m], (k, 2): ball, (cushion,) pocket.
+        ghost: ghost-ball centre [m] (``None`` for a safety).
+        safety: no pocketable shot was found; this is the planner's safe play.
+        stroke: the full stroke (with tip offsets), for replaying in a simulator.
+    """
+
+    target_ball: int | None
+    pocket: str | None
+    kind: str | None
+    cue_angle: float
+    speed: float
+    success_probability: float | None
+    group: str
+    cue_path: np.ndarray
+    object_path: np.ndarray
+    ghost: np.ndarray | None
+    safety: bool = False
+    stroke: Shot | None = None
+
+    @property
+    def power_level(self) -> int:
+        return power_level(self.speed)
+
+    def to_dict(self) -> dict:
+        p = self.success_probability
+        return {
+            "target_ball": self.target_ball,
+            "pocket": self.pocket,
+            "kind": self.kind,
+            "cue_angle_deg": round(math.degrees(self.cue_angle) % 360.0, 3),
+            "speed_mps": round(self.speed, 3),
+            "power_level": self.power_level,
+            "success_probability": None if p is None else round(p, 4),
+            "group": self.group,
+            "safety": self.safety,
+            "tip_offset": None
+            if self.stroke is None
+            else {"side": round(self.stroke.side, 3), "height": round(self.stroke.height, 3)},
+        }
+
+    def describe(self, balls: tuple[LocatedBall, ...]) -> str:
+        """One line for people: ball, pocket, kind, power, success chance."""
+        chance = "" if self.success_probability is None else f", {self.success_probability:.0%} chance"
+        if self.safety or self.target_ball is None:
+            return f"No good pot for {self.group}: safe shot at power {self.power_level}/30{chance}"
+        ball = balls[self.target_ball]
+        x, y = ball.table_xy_m
+        return (
+            f"{ball.ball_class} ball at ({x:.2f}, {y:.2f}) m -> {self.pocket} pocket, {self.kind}, "
+            f"power {self.power_level}/30{chance} ({self.group})"
+        )
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class Suggestion:
+    """The photo pipeline's answer (``pix2pockets.suggest``).
+
+    Not to be confused with :class:`pix2pockets.planner.Suggestion` (one planner candidate): this one
+    holds everything found in the photo plus the chosen shot.
+
+    Attributes:
+        image_size: (width, height) [px].
+        corners_px: the 4 playing-surface corners (cushion-nose rectangle on the cloth) [px], (4, 2), in
+            ``TableSpec.corners`` order; NaN (JSON ``null``) for a corner behind the camera.
+        homography: image pixels -> table metres on the cloth (3, 3).
+        balls: the located balls.
+        shot: the suggested shot.
+        layout: the located layout (balls in ``balls`` order).
+        camera: the recovered camera (for drawing in perspective).
+        timings: seconds per stage.
+    """
+
+    image_size: tuple[int, int]
+    corners_px: np.ndarray
+    homography: np.ndarray
+    balls: tuple[LocatedBall, ...]
+    shot: ShotAdvice
+    layout: TableLayout
+    camera: object
+    timings: dict = field(default_factory=dict)
+
+    @property
+    def spec(self) -> TableSpec:
+        return self.layout.spec
+
+    @property
+    def text(self) -> str:
+        """One-line description of the shot."""
+        return self.shot.describe(self.balls)
+
+    def to_dict(self) -> dict:
+        """The JSON document of ``pix2pockets suggest --json``."""
+        return {
+            "image": {"width": int(self.image_size[0]), "height": int(self.image_size[1])},
+            "table": {
+                "spec": self.spec.name,
+                "corners_px": [
+                    [round(float(v), 2) for v in c] if np.all(np.isfinite(c)) else None for c in self.corners_px
+                ],
+                "homography": [[float(v) for v in row] for row in self.homography],
+            },
+            "balls": [b.to_dict() for b in self.balls],
+            "suggestion": self.shot.to_dict(),
+            "text": self.text,
+        }

@@ -1,0 +1,63 @@
+"""Planners by name, for the CLI, the pipeline and the environments."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import replace
+from typing import Any
+
+from pix2pockets.planner.base import Planner
+from pix2pockets.planner.hitpoints import ShotKind
+from pix2pockets.planner.oracle import OracleConfig, OracleMode, OraclePlanner
+from pix2pockets.planner.search import SearchConfig, SearchPlanner
+
+_ORACLES: dict[str, OracleConfig] = {
+    "oracle": OracleConfig(OracleMode.BEST_MAX, mirror=False),
+    "oracle-mirror": OracleConfig(OracleMode.BEST_MAX, mirror=True),
+    "oracle-rand-max": OracleConfig(OracleMode.RANDOM_MAX, mirror=False),
+    "oracle-rand-max-mirror": OracleConfig(OracleMode.RANDOM_MAX, mirror=True),
+    "oracle-rand-rand": OracleConfig(OracleMode.RANDOM_RANDOM, mirror=False),
+    "oracle-rand-rand-mirror": OracleConfig(OracleMode.RANDOM_RANDOM, mirror=True),
+}
+_SEARCHES: dict[str, dict[str, Any]] = {
+    "search": {},
+    "search-direct": {"kinds": (ShotKind.DIRECT,)},
+    "search-greedy": {"lookahead": 0.0},
+}
+PLANNER_NAMES: tuple[str, ...] = (*_ORACLES, *_SEARCHES)
+"""Names accepted by :func:`make_planner`: the paper's Oracle variants and our search planner."""
+
+
+def make_planner(
+    name: str,
+    physics: str = "event",
+    noise: str = "fastfiz",
+    time_budget: float | None = 0.5,
+    oracle_speed: float | None = None,
+    **search_overrides: Any,
+) -> Planner:
+    """Build a planner by name.
+
+    Args:
+        name: one of :data:`PLANNER_NAMES`.
+        physics: simulator backend the search planner verifies with.
+        noise: planning noise model of the search planner.
+        time_budget: search decision time limit [s] (``None``: unlimited, reproducible).
+        oracle_speed: the Oracle's "max power" stroke speed [m/s] (default ``OracleConfig.max_speed``).
+        search_overrides: further :class:`SearchConfig` fields.
+    """
+    if name in _ORACLES:
+        cfg = _ORACLES[name]
+        if oracle_speed is not None:
+            if not (math.isfinite(oracle_speed) and oracle_speed > 0):
+                raise ValueError(f"oracle speed must be positive, got {oracle_speed}")
+            cfg = replace(cfg, max_speed=oracle_speed)
+        planner = OraclePlanner(cfg)
+        planner.name = name
+        return planner
+    if name in _SEARCHES:
+        kw = {**_SEARCHES[name], **search_overrides}
+        planner = SearchPlanner(SearchConfig(physics=physics, noise=noise, time_budget=time_budget, **kw))
+        planner.name = name
+        return planner
+    raise ValueError(f"unknown planner {name!r}; choose one of {list(PLANNER_NAMES)}")

@@ -1,0 +1,621 @@
+"""Table fitting from diamond (dot) detections: rails, point ordering, homography and camera.
+
+The method follows the paper (section 5.1) and makes it robust to missing dots:
+
+1. **Rail lines.** Iterative RANSAC line fits split the dot centres into rails: the line through the
+   most dots wins, its inliers are removed, and so on, up to four lines.
+2. **Labelling.** Pairs of rail lines are hypothesised to be particular rails of the table (bottom, foot,
+   top, head), with the dots on them in either direction and at any run of consecutive diamond positions.
+   Each hypothesis gives a homography from which all 18 diamonds are projected; the hypothesis matching
+   the most dots (then the smallest residual, measured in table metres) wins. A short rail has 3 dots and
+   a long rail 6, split by the side pocket, so the spacing pattern tells the long rails from the short
+   ones even when dots are hidden. Reflected hypotheses are rejected: a camera above the table sees the
+   table frame with its handedness reversed in pixel coordinates (``v`` down).
+3. **Corners.** Where two adjacent rails each have at least two dots, their lines intersect in a corner of
+   the diamond rectangle, ``(-s, -s)`` ... ``(L + s, W + s)`` for the diamond setback ``s``, on the rail
+   cap at :func:`diamond_height` (not at the cushion nose corners). The corners are validated (convex,
+   in a plausible region around the image, consistent with the fitted table) and added to the points.
+4. **Homography and camera.** A robust homography (``cv2.USAC_MAGSAC``) from all matched points, then
+   the camera (focal length, pose) from it, refined on the points at their true height
+   (:func:`pix2pockets.geometry.homography.camera_from_homography`).
+
+Convention for the inherent 180-degree ambiguity (the diamond pattern is symmetric): the head rail
+(``x = 0``) is the short rail whose midpoint lies further left and lower in the image, i.e. the one that
+minimises ``(u_head - u_foot) - (v_head - v_foot)``. For a top view with the long axis horizontal this
+puts the head on the left; for a view along the table it puts the head rail nearest the camera.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from pix2pockets.geometry.camera import PinholeCamera
+from pix2pockets.geometry.homography import apply_homography, camera_from_homography, fit_homography
+from pix2pockets.geometry.table import TableSpec
+from pix2pockets.vision.detections import Detections
+
+RAIL_DIAMONDS: tuple[tuple[int, ...], ...] = ((0, 1, 2, 3, 4, 5), (6, 7, 8), (9, 10, 11, 12, 13, 14), (15, 16, 17))
+"""Diamond indices of each rail in ``TableSpec.diamonds`` order: bottom, foot, top, head."""
+
+MIN_DOTS = 4
+MAX_DOTS = 40  # more candidates than this are cut by confidence (false positives)
+MAX_HYPOTHESES = 2000  # rail-assignment hypotheses tried before giving up on better ones
+
+
+DIAMOND_RISE = 0.0075
+"""Height of the rail cap (where the diamonds sit) above the cushion nose [m]. Rail caps stand a few
+millimetres above the nose; 7.5 mm is the middle of the synthetic renderer's 3-12 mm range. A wrong
+height shifts located balls by about the error x tan(camera tilt), so it matters for low views."""
+
+
+def diamond_height(spec: TableSpec) -> float:
+    """Height of the diamond centres above the cloth [m]: ``cushion_height + DIAMOND_RISE``."""
+    return spec.cushion_height + DIAMOND_RISE
+
+
+class TableFitError(ValueError):
+    """The table could not be found in the image; the message says why."""
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class TableFit:
+    """A fitted table.
+
+    Attributes:
+        spec: the table.
+        camera: the recovered camera (table frame -> pixels).
+        dot_index: for each input dot, the diamond index it was matched to (0-17), or -1 (outlier).
+        diamond_corners_px: image positions of the diamond-rectangle corners (rail-cap height), (4, 2);
+            NaN for corners whose two rails lacked the dots to intersect.
+        rms_px: root-mean-square reprojection error of the matched points [px].
+        n_matched: number of matched dots.
+    """
+
+    spec: TableSpec
+    camera: PinholeCamera
+    dot_index: np.ndarray
+    diamond_corners_px: np.ndarray
+    rms_px: float
+    n_matched: int
+
+    @property
+    def homography(self) -> np.ndarray:
+        """Image pixels -> table metres on the cloth (``z = 0``), (3, 3), normalised to ``H[2, 2] = 1``."""
+        H = np.linalg.inv(self.camera.table_homography(0.0))
+        return H / H[2, 2]
+
+    @property
+    def corners_px(self) -> np.ndarray:
+        """The 4 playing-surface corners (cushion nose lines, on the cloth) in pixels, (4, 2), in
+        ``TableSpec.corners`` order."""
+        return self.camera.project_table(self.spec.corners, 0.0)
+
+    def image_to_table(self, uv: np.ndarray, z: float = 0.0) -> np.ndarray:
+        """Pixels (..., 2) -> table points [m] on the plane at height ``z`` [m]."""
+        return apply_homography(np.linalg.inv(self.camera.table_homography(z)), uv)
+
+    def table_to_image(self, xy: np.ndarray, z: float = 0.0) -> np.ndarray:
+        """Table points [m] (..., 2) at height ``z`` -> pixels (..., 2)."""
+        return self.camera.project_table(xy, z)
+
+
+# ----------------------------------------------------------------------------- rail lines
+def _line_through(p: np.ndarray, q: np.ndarray) -> np.ndarray | None:
+    d = q - p
+    n = math.hypot(*d)
+    if n < 1e-9:
+        return None
+    normal = np.array([-d[1], d[0]]) / n
+    return np.array([normal[0], normal[1], -normal @ p])
+
+
+def _tls_line(points: np.ndarray) -> np.ndarray:
+    """Total-least-squares line ``(a, b, c)`` with ``a^2 + b^2 = 1`` through points (n, 2)."""
+    mean = points.mean(axis=0)
+    _, _, vt = np.linalg.svd(points - mean)
+    normal = vt[-1]
+    return np.array([normal[0], normal[1], -normal @ mean])
+
+
+def fit_rail_lines(points: np.ndarray, tol_px: float, max_lines: int = 4) -> list[np.ndarray]:
+    """Split points into collinear groups by iterative RANSAC (exhaustive over point pairs).
+
+    Args:
+        points: dot centres (n, 2) [px].
+        tol_px: inlier distance to a line [px].
+        max_lines: most lines to extract.
+
+    Returns:
+        Index arrays into ``points``, one per line (each with >= 2 points), sorted along the line.
+    """
+    remaining = np.arange(len(points))
+    lines: list[np.ndarray] = []
+    while len(lines) < max_lines and len(remaining) >= 2:
+        pts = points[remaining]
+        best: tuple[int, float, np.ndarray] | None = None
+        for i, j in itertools.combinations(range(len(pts)), 2):
+            line = _line_through(pts[i], pts[j])
+            if line is None:
+                continue
+            dist = np.abs(pts @ line[:2] + line[2])
+            inl = dist < tol_px
+            key = (int(inl.sum()), -float(np.sum(dist[inl] ** 2)))
+            if best is None or key > best[:2]:
+                best = (key[0], key[1], inl)
+        if best is None or best[0] < 2:
+            break
+        inl = best[2]
+        if inl.sum() >= 3:  # refine on the inliers, then take the inliers of the refined line
+            line = _tls_line(pts[inl])
+            refined = np.abs(pts @ line[:2] + line[2]) < tol_px
+            if refined.sum() >= inl.sum():
+                inl = refined
+        idx = remaining[inl]
+        direction = points[idx[-1]] - points[idx[0]]
+        order = np.argsort(points[idx] @ direction)
+        lines.append(idx[order])
+        remaining = remaining[~inl]
+    return lines
+
+
+# ----------------------------------------------------------------------------- labelling
+def _signed_area(poly: np.ndarray) -> float:
+    x, y = poly[:, 0], poly[:, 1]
+    x2, y2 = np.concatenate([x[1:], x[:1]]), np.concatenate([y[1:], y[:1]])
+    return 0.5 * float(np.sum(x * y2 - x2 * y))
+
+
+def _match_dots(
+    H_img_to_table: np.ndarray, dots: np.ndarray, diamonds: np.ndarray, tol_m: float
+) -> tuple[np.ndarray, float]:
+    """Match dots to diamonds (one-to-one, nearest in table metres). Returns (index per dot, cost)."""
+    xy = apply_homography(H_img_to_table, dots)
+    d = np.linalg.norm(xy[:, None, :] - diamonds[None, :, :], axis=-1)
+    d = np.where(np.isfinite(d), d, np.inf)
+    index = np.full(len(dots), -1)
+    cost = 0.0
+    order = np.argsort(d.min(axis=1))
+    used: set[int] = set()
+    for i in order:
+        j = int(np.argmin(d[i]))
+        if d[i, j] < tol_m and j not in used:
+            index[i] = j
+            used.add(j)
+            cost += d[i, j] ** 2
+    return index, cost
+
+
+def _positions_along(spec: TableSpec, rail: int) -> np.ndarray:
+    """Positions [m] of a rail's diamonds along the rail, in ``RAIL_DIAMONDS`` order."""
+    xy = spec.diamonds[list(RAIL_DIAMONDS[rail])]
+    return np.linalg.norm(xy - xy[0], axis=1)
+
+
+def _cross_ratio(t: np.ndarray) -> np.ndarray:
+    """Cross-ratios of consecutive quadruples of 1-D positions (projective invariants)."""
+    a, b, c, d = t[:-3], t[1:-2], t[2:-1], t[3:]
+    return ((c - a) * (d - b)) / ((c - b) * (d - a))
+
+
+def _line_candidates(points: np.ndarray, line: np.ndarray, spec: TableSpec) -> list[tuple[int, np.ndarray]]:
+    """Possible (rail, diamond indices) for the dots of one line, sorted along it.
+
+    Any ordered subset of a rail's diamonds in either direction, pruned by cross-ratios (4 or more dots:
+    exact projective invariants) or by a loose spacing-ratio check (3 dots).
+    """
+    pts = points[line]
+    t = np.linalg.norm(pts - pts[0], axis=1)
+    k = len(line)
+    out = []
+    for rail, ids in enumerate(RAIL_DIAMONDS):
+        if k > len(ids):
+            continue
+        pos = _positions_along(spec, rail)
+        for subset in itertools.combinations(range(len(ids)), k):
+            for direction in (1, -1):
+                sub = list(subset[::direction])
+                tp = pos[sub]
+                if k >= 4:
+                    cr_img, cr_tab = _cross_ratio(t), _cross_ratio(tp)
+                    if np.any(np.abs(np.log(np.abs(cr_img / cr_tab))) > 0.15):
+                        continue
+                elif k == 3:
+                    r_img = (t[1] - t[0]) / max(t[2] - t[1], 1e-9)
+                    r_tab = abs(tp[1] - tp[0]) / max(abs(tp[2] - tp[1]), 1e-9)
+                    if abs(np.log(r_img / r_tab)) > np.log(4.0):
+                        continue
+                out.append((rail, np.array([ids[i] for i in sub])))
+    return out
+
+
+def _hypotheses(points: np.ndarray, line_a: np.ndarray, line_b: np.ndarray, spec: TableSpec):
+    """Yield (dot indices, diamond indices) for two lines assigned to two different rails."""
+
+    # only the end dots of each line enter the minimal 4-point homography: candidates that differ only
+    # inside a line give the same map, so they are tried once (the interior is checked by the matching)
+    def ends(line: np.ndarray) -> dict[tuple[int, int, int], None]:
+        return {(r, int(d[0]), int(d[-1])): None for r, d in _line_candidates(points, line, spec)}
+
+    cand_a, cand_b = ends(line_a), ends(line_b)
+    dots = np.array([line_a[0], line_a[-1], line_b[0], line_b[-1]])
+    for ra, a0, a1 in cand_a:
+        for rb, b0, b1 in cand_b:
+            if ra != rb:
+                yield dots, np.array([a0, a1, b0, b1])
+
+
+def label_dots(dots: np.ndarray, lines: list[np.ndarray], spec: TableSpec, tol_m: float | None = None) -> np.ndarray:
+    """Assign each dot a diamond index (0-17) or -1, from hypotheses on pairs of rail lines (the best one).
+
+    Raises:
+        TableFitError: when no hypothesis matches at least ``MIN_DOTS`` dots on two rails.
+    """
+    return label_candidates(dots, lines, spec, tol_m)[0]
+
+
+def label_candidates(
+    dots: np.ndarray, lines: list[np.ndarray], spec: TableSpec, tol_m: float | None = None, keep: int = 4
+) -> list[np.ndarray]:
+    """The best few distinct labellings (diamond index per dot, -1 unmatched), best first.
+
+    Few dots can leave near-ties (e.g. two dots on a short rail next to a long rail: shifted by one
+    diamond, a general homography still fits); the camera fit then decides (:func:`fit_table`).
+    Labellings that differ only by the 180-degree turn count once.
+
+    Raises:
+        TableFitError: when no hypothesis matches at least ``MIN_DOTS`` dots on two rails.
+    """
+    diamonds = spec.diamonds
+    tol_m = tol_m if tol_m is not None else 0.25 * spec.length / 8
+    usable = [ln for ln in lines if len(ln) >= 2]
+    best: tuple[int, float] | None = None
+    found: dict[tuple, tuple[tuple[int, float], np.ndarray]] = {}
+    pairs = sorted(
+        itertools.combinations(range(len(usable)), 2),
+        key=lambda ab: (-min(len(usable[ab[0]]), len(usable[ab[1]])), -len(usable[ab[0]]) - len(usable[ab[1]])),
+    )
+    strong = sum(len(x) >= 3 for x in usable)
+    if strong >= 2:  # two-dot lines only join hypotheses when there are not enough longer lines
+        pairs = [(a, b) for a, b in pairs if len(usable[a]) >= 3 and len(usable[b]) >= 3]
+    elif strong == 1:
+        # greedy two-dot lines are arbitrary: pair the long line with every pair of the other dots
+        main = next(i for i, x in enumerate(usable) if len(x) >= 3)
+        rest = np.setdiff1d(np.arange(len(dots)), usable[main])
+        extra = [np.array(p) for p in itertools.combinations(rest.tolist(), 2)]
+        if len(extra) <= 45:
+            base = len(usable)
+            usable = usable + extra
+            pairs = [(main, base + k) for k in range(len(extra))]
+    n_on_lines = sum(len(x) for x in usable)
+    tried = 0
+    for a, b in pairs:
+        if tried > MAX_HYPOTHESES:
+            break
+        if best is not None and best[0] >= n_on_lines:
+            break  # every dot on a rail line is explained: no better hypothesis exists
+        for dot_idx, diam_idx in _hypotheses(dots, usable[a], usable[b], spec):
+            if len(dot_idx) < 4:
+                continue
+            tried += 1
+            if tried > MAX_HYPOTHESES:
+                break  # (the outer loop stops too, below)
+            H = cv2.getPerspectiveTransform(
+                diamonds[diam_idx].astype(np.float32), dots[dot_idx].astype(np.float32)
+            )  # table -> image
+            if H is None or not np.all(np.isfinite(H)):
+                continue
+            # the hypothesis dots are seen, so in front of the camera: one sign of w for all of them; with
+            # w > 0 a camera above the table reverses handedness (det H < 0), a reflection would not
+            w = np.column_stack([diamonds[diam_idx], np.ones(len(diam_idx))]) @ H[2]
+            if not (np.all(w > 0) or np.all(w < 0)):
+                continue
+            if w[0] < 0:
+                H = -H
+            if np.linalg.det(H) >= 0:
+                continue
+            Hinv = _safe_inv(H)
+            if Hinv is None:
+                continue
+            index, cost = _match_dots(Hinv, dots, diamonds, tol_m)
+            if best is not None and (index >= 0).sum() < best[0] - 4:
+                continue  # hopeless: skip the refits
+            for _ in range(2):  # refit on all matched dots
+                m = index >= 0
+                if m.sum() < 4 or len({_rail_of(int(j)) for j in index[m]}) < 2:
+                    break
+                try:
+                    Hinv = _safe_inv(fit_homography(diamonds[index[m]], dots[m]))
+                except ValueError:
+                    break
+                if Hinv is None:
+                    break
+                index, cost = _match_dots(Hinv, dots, diamonds, tol_m)
+            turned = np.where(index >= 0, (index + 9) % 18, -1)
+            key_t = min(tuple(index), tuple(turned))
+            score = (int((index >= 0).sum()), -cost)
+            if key_t not in found or score > found[key_t][0]:
+                found[key_t] = (score, index)
+            if best is None or score > best:
+                best = score
+    ranked = sorted(found.values(), key=lambda si: si[0], reverse=True)
+    ranked = [(sc, ix) for sc, ix in ranked if len({_rail_of(int(j)) for j in ix[ix >= 0]}) >= 2 and sc[0] >= MIN_DOTS]
+    if not ranked:
+        n = 0 if best is None else best[0]
+        raise TableFitError(
+            f"too few table points: {n} diamonds could be matched (need {MIN_DOTS} on at least two rails)"
+        )
+    top = ranked[0][0][0]
+    return [ix for sc, ix in ranked if sc[0] >= top - 1][:keep]
+
+
+def _safe_inv(H: np.ndarray) -> np.ndarray | None:
+    """Inverse of a homography, or ``None`` when it is (nearly) singular."""
+    if not np.all(np.isfinite(H)) or np.linalg.cond(H) > 1e12:
+        return None
+    return np.linalg.inv(H)
+
+
+def _rail_of(diamond: int) -> int:
+    for r, ids in enumerate(RAIL_DIAMONDS):
+        if diamond in ids:
+            return r
+    raise ValueError(diamond)
+
+
+# ----------------------------------------------------------------------------- corners
+def diamond_rectangle(spec: TableSpec) -> np.ndarray:
+    """Corners of the rectangle through the diamond centres [m], (4, 2), in ``TableSpec.corners`` order."""
+    s = spec.diamond_setback
+    L, W = spec.length, spec.width
+    return np.array([[-s, -s], [L + s, -s], [L + s, W + s], [-s, W + s]])
+
+
+def _rail_corners(dots: np.ndarray, index: np.ndarray, min_angle_deg: float = 8.0) -> np.ndarray:
+    """Intersections of adjacent rail lines (rails with >= 2 matched dots), (4, 2), NaN where missing.
+
+    Corner ``k`` is the meeting point of rails bottom/head, bottom/foot, foot/top, top/head (the
+    ``TableSpec.corners`` order). Lines meeting at less than ``min_angle_deg`` in the image (a view along
+    the table diagonal) give an ill-conditioned intersection and are skipped.
+    """
+    lines: list[np.ndarray | None] = []
+    for r in range(4):
+        m = np.isin(index, RAIL_DIAMONDS[r])
+        lines.append(_tls_line(dots[m]) if m.sum() >= 2 else None)
+    pairs = [(3, 0), (0, 1), (1, 2), (2, 3)]
+    out = np.full((4, 2), np.nan)
+    sin_min = math.sin(math.radians(min_angle_deg))
+    for k, (ra, rb) in enumerate(pairs):
+        la, lb = lines[ra], lines[rb]
+        if la is None or lb is None:
+            continue
+        if abs(la[0] * lb[1] - la[1] * lb[0]) < sin_min:
+            continue
+        p = np.cross(la, lb)
+        out[k] = p[:2] / p[2]
+    return out
+
+
+def validate_corners(corners: np.ndarray, image_size: tuple[int, int], max_reach: float = 200.0) -> None:
+    """Check the 4 table corners [px]: those in front of the camera (finite) lie within ``max_reach``
+    image sizes of the image (a close phone shot may see the far corners well outside the frame) and,
+    when all four are in front, form a convex quadrilateral. Corners behind the camera are NaN.
+
+    Raises:
+        TableFitError: with the reason.
+    """
+    corners = np.asarray(corners, dtype=float)
+    if corners.shape != (4, 2):
+        raise TableFitError("no table found: the rails do not give four corners")
+    ok = np.all(np.isfinite(corners), axis=1)
+    if ok.sum() < 2:
+        raise TableFitError("no table found: most of the table would lie behind the camera")
+    w, h = image_size
+    c = corners[ok]
+    far = (np.abs(c[:, 0] - w / 2) > max_reach * w) | (np.abs(c[:, 1] - h / 2) > max_reach * h)
+    if far.any():
+        raise TableFitError("no table found: table corners fall far outside the image")
+    if ok.all():
+        cross = []
+        for i in range(4):
+            a, b, c_ = corners[i], corners[(i + 1) % 4], corners[(i + 2) % 4]
+            u, v = b - a, c_ - b
+            cross.append(u[0] * v[1] - u[1] * v[0])
+        if not (all(x < 0 for x in cross) or all(x > 0 for x in cross)):
+            raise TableFitError("no table found: the corners do not form a convex quadrilateral")
+
+
+def robust_homography(src: np.ndarray, dst: np.ndarray, thresh_px: float) -> tuple[np.ndarray, np.ndarray]:
+    """Robust homography ``dst ~ H src``: MAGSAC++ (falling back to RANSAC, then plain least squares),
+    refitted by least squares on the inliers. Returns ``(H, inlier mask)``."""
+    H = mask = None
+    if len(src) >= 5:
+        for method in (cv2.USAC_MAGSAC, cv2.RANSAC):
+            H, mask = cv2.findHomography(src, dst, method, thresh_px)
+            if H is not None and mask is not None and mask.sum() >= 4:
+                break
+            H = None
+    if H is None:
+        mask = np.ones(len(src), dtype=bool)
+    mask = np.asarray(mask).reshape(-1).astype(bool)
+    try:
+        H = fit_homography(src[mask], dst[mask])
+    except ValueError as err:
+        raise TableFitError(f"no table found: {err}") from None
+    return H, mask
+
+
+# ----------------------------------------------------------------------------- main entry
+def _tolerance_px(dots: np.ndarray, image_size: tuple[int, int]) -> float:
+    diag = math.hypot(*image_size)
+    if len(dots) >= 2:
+        d = np.linalg.norm(dots[:, None] - dots[None], axis=-1)
+        d[np.diag_indices(len(dots))] = np.inf
+        nn = float(np.median(d.min(axis=1)))
+    else:
+        nn = diag
+    return float(np.clip(0.15 * nn, 1.5, 0.005 * diag))
+
+
+def fit_table(
+    dots: np.ndarray | Detections,
+    image_size: tuple[int, int],
+    spec: TableSpec | None = None,
+    tol_px: float | None = None,
+    focal_prior_px: float | None = None,
+    diamond_z: float | None = None,
+) -> TableFit:
+    """Fit the table from dot detections.
+
+    Args:
+        dots: dot centres (n, 2) [px], or :class:`Detections` (its dots are used, best first).
+        image_size: (width, height) [px].
+        spec: the table (default 9-foot).
+        tol_px: line inlier tolerance [px] (default: from the dot spacing and image size).
+        focal_prior_px: prior focal length [px] for near-top views (default: the larger image side).
+        diamond_z: height of the diamond centres above the cloth [m] (default :func:`diamond_height`).
+
+    Raises:
+        TableFitError: too few dots, no consistent rails, or an implausible table.
+    """
+    spec = spec or TableSpec()
+    ball_centres = np.zeros((0, 2))
+    if isinstance(dots, Detections):
+        ball_centres = dots[dots.is_ball].centres
+        d = dots[dots.is_dot]
+        order = np.argsort(-d.confidence)
+        pts = d.centres[order][:MAX_DOTS]
+        back = order[:MAX_DOTS]
+        n_total = len(d)
+    else:
+        pts = np.asarray(dots, dtype=float).reshape(-1, 2)
+        back = np.arange(len(pts))
+        n_total = len(pts)
+    if not np.all(np.isfinite(pts)):
+        raise TableFitError("dot positions must be finite")
+    if len(pts) < MIN_DOTS:
+        raise TableFitError(f"too few table points: {len(pts)} diamonds detected, need at least {MIN_DOTS}")
+    tol = tol_px if tol_px is not None else _tolerance_px(pts, image_size)
+    lines = fit_rail_lines(pts, tol)
+    if sum(len(x) >= 2 for x in lines) < 2:
+        raise TableFitError("too few table points: diamonds on at least two rails are needed")
+    h = diamond_height(spec) if diamond_z is None else float(diamond_z)
+    fits = []
+    first_error: TableFitError | None = None
+    for index in label_candidates(pts, lines, spec):
+        try:
+            fits.append(_fit_labelled(pts, index, spec, image_size, tol, h, focal_prior_px))
+        except TableFitError as err:
+            first_error = first_error or err
+    if not fits:
+        raise first_error or TableFitError("no table found")
+    # near-ties (e.g. an L of dots around one corner: the long and short rail look alike there) are
+    # broken by the balls, which must lie on the playing surface
+    camera, index, corners, rms, n_matched = max(
+        fits, key=lambda f: (f[4], _balls_on_table(f[0], ball_centres, spec), -round(f[3], 1))
+    )
+
+    # the 180-degree convention: head rail further left / lower in the image than the foot rail
+    head_mid = camera.project_table(np.array([0.0, spec.width / 2]), h)
+    foot_mid = camera.project_table(np.array([spec.length, spec.width / 2]), h)
+    metric = (head_mid[0] - foot_mid[0]) - (head_mid[1] - foot_mid[1])
+    if metric > 0:
+        camera, index, corners = _rotate_half_turn(camera, index, corners, spec)
+
+    dot_index_full = np.full(n_total, -1)
+    dot_index_full[back] = index
+    return TableFit(spec, camera, dot_index_full, corners, rms, n_matched)
+
+
+def _fit_labelled(
+    pts: np.ndarray,
+    index: np.ndarray,
+    spec: TableSpec,
+    image_size: tuple[int, int],
+    tol: float,
+    h: float,
+    focal_prior_px: float | None,
+) -> tuple[PinholeCamera, np.ndarray, np.ndarray, float, int]:
+    """Homography, camera and validation for one labelling. Returns (camera, index, corners, rms, n).
+
+    Raises:
+        TableFitError: the labelled dots do not give a plausible table and camera.
+    """
+    m = index >= 0
+    world = spec.diamonds[index[m]]
+    image = pts[m]
+    rect = diamond_rectangle(spec)
+    thresh = max(3.0, 2 * tol)
+    H_dots, _ = robust_homography(world, image, thresh)
+    # rail-line corners, kept only where they agree with the dots' homography
+    corners = _rail_corners(pts, index)
+    predicted = apply_homography(H_dots, rect)
+    agree = np.linalg.norm(corners - predicted, axis=1) < max(5.0, 3 * tol)
+    corners = np.where(agree[:, None], corners, np.nan)
+    world_all = np.vstack([world, rect[agree]])
+    image_all = np.vstack([image, corners[agree]])
+    H, mask = robust_homography(world_all, image_all, thresh)
+    if mask.sum() < 4:
+        raise TableFitError("no table found: the diamonds do not fit a table (homography failed)")
+    world3_all = np.column_stack([world_all, np.full(len(world_all), h)])
+    keep = mask.copy()
+    for _ in range(6):  # refit without the worst point while it is an outlier
+        camera = camera_from_homography(
+            H,
+            image_size,
+            z=h,
+            world_points=world3_all[keep],
+            image_points=image_all[keep],
+            focal_prior_px=focal_prior_px,
+        )
+        err_all = np.linalg.norm(camera.project(world3_all) - image_all, axis=1)
+        err_all = np.where(np.isfinite(err_all), err_all, np.inf)
+        limit = max(3.0, 3 * 1.4826 * float(np.median(err_all[keep])))
+        worst = int(np.argmax(np.where(keep, err_all, -1.0)))
+        if err_all[worst] <= limit or keep.sum() <= 7:
+            break
+        keep[worst] = False
+    err = err_all[keep]
+    rms = float(np.sqrt(np.mean(err**2)))
+    if not np.isfinite(rms) or rms > max(4.0, tol):
+        raise TableFitError(f"no table found: the diamonds do not fit a {spec.name} table (error {rms:.1f} px)")
+    dot_rows = np.flatnonzero(m)
+    index = index.copy()
+    index[dot_rows[~keep[: len(dot_rows)]]] = -1
+    m = index >= 0
+    n_matched = int(m.sum())
+    if n_matched < max(MIN_DOTS, 0.5 * len(pts)):
+        raise TableFitError(
+            f"no table found: only {n_matched} of {len(pts)} dots fit the diamond pattern of a {spec.name} table"
+        )
+    if camera.position[2] < spec.cushion_height + 0.2:
+        raise TableFitError("no table found: the fitted camera is not above the table")
+    validate_corners(camera.project_table(rect, h), image_size)
+    if not 0.25 * max(image_size) < camera.focal_px < 6 * max(image_size):
+        raise TableFitError(f"no table found: implausible camera (focal length {camera.focal_px:.0f} px)")
+
+    return camera, index, corners, rms, n_matched
+
+
+def _balls_on_table(camera: PinholeCamera, centres_px: np.ndarray, spec: TableSpec) -> int:
+    """How many ball box centres [px] map onto the playing surface (ball-centre height)."""
+    if len(centres_px) == 0:
+        return 0
+    xy = apply_homography(np.linalg.inv(camera.table_homography(spec.ball_radius)), centres_px)
+    return int(np.sum(np.all(np.isfinite(xy), axis=1) & spec.contains(np.nan_to_num(xy, nan=-1.0))))
+
+
+def _rotate_half_turn(
+    camera: PinholeCamera, index: np.ndarray, corners: np.ndarray, spec: TableSpec
+) -> tuple[PinholeCamera, np.ndarray, np.ndarray]:
+    """Relabel the table turned by 180 degrees: ``(x, y) -> (L - x, W - y)``."""
+    D = np.diag([-1.0, -1.0, 1.0])
+    c = np.array([spec.length, spec.width, 0.0])
+    R = camera.R @ D
+    t = camera.R @ c + camera.t
+    new_index = np.where(index >= 0, (index + 9) % 18, -1)
+    return PinholeCamera(camera.K, R, t, camera.image_size), new_index, np.roll(corners, 2, axis=0)

@@ -1,0 +1,105 @@
+"""Stand-ins for the detector and planner, used by the pipeline tests only."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from pix2pockets.geometry import PinholeCamera, TableSpec
+from pix2pockets.state import Ball, Shot, TableLayout
+from pix2pockets.vision.analytic import analytic_detections, standard_views
+from pix2pockets.vision.detections import Detections
+
+SPEC = TableSpec()
+
+
+def example_layout() -> TableLayout:
+    numbers = [0, 1, 2, 8, 9, 10]
+    pos = [[0.6, 0.6], [1.9, 0.95], [1.2, 0.3], [1.5, 0.7], [2.1, 0.3], [0.4, 1.0]]
+    return TableLayout(tuple(Ball.numbered(n) for n in numbers), np.array(pos), SPEC)
+
+
+@dataclass
+class LabelDetector:
+    """Returns the exact labels of a known camera and layout (any image of the camera's size)."""
+
+    camera: PinholeCamera
+    layout: TableLayout
+    drop: tuple[int, ...] = ()  # layout indices to leave out (e.g. the cue ball)
+    dots: bool = True
+
+    def detect(self, image_rgb: np.ndarray) -> Detections:
+        det = analytic_detections(self.camera, self.layout.without(list(self.drop)))
+        if not self.dots:
+            det = det[~det.is_dot]
+        return det
+
+
+@dataclass(frozen=True)
+class Candidate:
+    shot: Shot
+    target: int | None
+    pocket: int | None
+    kind: str | None
+    success_probability: float | None
+    value: float = 0.0
+    hitpoint: object = None
+    safety: bool = False
+
+
+class NearestPocketPlanner:
+    """Direct shot: the own ball closest to a pocket, ghost-ball aim; a safety when there is none."""
+
+    name = "nearest-pocket"
+
+    def suggest(self, layout, state, rng=None):
+        cue = layout.cue_index
+        own = layout.indices_of(state.group.ball_class) or (
+            [layout.black_index] if layout.black_index is not None else []
+        )
+        spec = layout.spec
+        out = []
+        for i in own:
+            for k, p in enumerate(spec.pockets):
+                d = float(np.linalg.norm(p.aim - layout.positions[i]))
+                u = (p.aim - layout.positions[i]) / d
+                ghost = layout.positions[i] - 2 * spec.ball_radius * u
+                shot = Shot.toward(tuple(layout.positions[cue]), tuple(ghost), 2.0)
+                out.append(Candidate(shot, i, k, "direct", max(0.05, 1.0 - d), 1.0 - d))
+        if not out:
+            return [Candidate(Shot(angle=0.0, speed=1.0), None, None, None, 0.0, -1.0, safety=True)]
+        return sorted(out, key=lambda c: -c.value)
+
+
+def camera(view: str = "45") -> PinholeCamera:
+    return standard_views(SPEC)[view]
+
+
+def blank_image(cam: PinholeCamera) -> np.ndarray:
+    w, h = cam.image_size
+    img = np.zeros((h, w, 3), dtype=np.uint8)
+    img[:] = (30, 90, 40)
+    return img
+
+
+def angle_deg(a: float) -> float:
+    return math.degrees(a) % 360
+
+
+class ExampleLabelsDetector:
+    """Exact labels of the bundled example photo (full silhouette boxes)."""
+
+    def __init__(self) -> None:
+        import json
+        from pathlib import Path
+
+        from pix2pockets.cli.suggest_cmd import EXAMPLE_LABELS, example_photo_path
+
+        self.labels = json.loads((Path(example_photo_path()).parent / EXAMPLE_LABELS).read_text())
+
+    def detect(self, image_rgb: np.ndarray) -> Detections:
+        from pix2pockets.vision.analytic import detections_from_synth_labels
+
+        return detections_from_synth_labels(self.labels, silhouette=True)

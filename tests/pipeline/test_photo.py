@@ -1,0 +1,100 @@
+import numpy as np
+import pytest
+
+import pix2pockets
+from pix2pockets.pipeline.draw import render_result
+from pix2pockets.pipeline.photo import load_image, suggest
+from pix2pockets.pipeline.result import power_level
+from pix2pockets.state import Shot
+from pix2pockets.vision.table_fit import TableFitError
+
+from .standins import SPEC, Candidate, LabelDetector, NearestPocketPlanner, blank_image, camera, example_layout
+
+
+@pytest.mark.parametrize("view", ["top", "45", "front"])
+def test_suggest_locates_balls_and_plans(view):
+    cam = camera(view)
+    layout = example_layout()
+    res = suggest(blank_image(cam), "solids", LabelDetector(cam, layout), NearestPocketPlanner(), SPEC)
+    assert len(res.balls) == len(layout)
+    got = np.array([b.table_xy_m for b in res.balls])
+    assert np.linalg.norm(got - layout.positions, axis=1).max() < 0.01
+    np.testing.assert_allclose(res.corners_px, cam.project_table(SPEC.corners, 0.0), atol=3.0)
+    doc = res.to_dict()
+    assert doc["image"] == {"width": cam.image_size[0], "height": cam.image_size[1]}
+    assert set(doc["table"]) >= {"corners_px", "homography"}
+    assert {"class", "confidence", "bbox_px", "contact_px", "table_xy_m"} <= set(doc["balls"][0])
+    s = doc["suggestion"]
+    assert s["kind"] == "direct"
+    assert doc["balls"][s["target_ball"]]["class"] == "solid"
+    assert 1 <= s["power_level"] <= 30
+    assert set(s) >= {"target_ball", "pocket", "kind", "cue_angle_deg", "speed_mps", "success_probability"}
+    # the homography maps contact points to table positions
+    H = np.array(doc["table"]["homography"])
+    c = np.array([b["contact_px"] + [1.0] for b in doc["balls"]]) @ H.T
+    np.testing.assert_allclose(c[:, :2] / c[:, 2:], got, atol=2e-3)
+    picture = render_result(blank_image(cam), res)
+    assert picture.shape[0] > cam.image_size[1] and picture.shape[1] > cam.image_size[0]
+
+
+def test_auto_picks_the_better_group_and_top_level_api():
+    cam = camera("top")
+    res = pix2pockets.suggest(
+        blank_image(cam), "auto", detector=LabelDetector(cam, example_layout()), planner=NearestPocketPlanner()
+    )
+    assert res.shot.group in ("solids", "stripes")
+    assert "pocket" in res.text
+
+
+class SafetyPlanner:
+    def suggest(self, layout, state, rng=None):
+        return [Candidate(Shot(angle=1.0, speed=1.0), None, None, None, 0.0, -1.0, safety=True)]
+
+
+def test_no_shot_gives_a_safety_not_an_error():
+    cam = camera("top")
+    res = suggest(blank_image(cam), "stripes", LabelDetector(cam, example_layout()), SafetyPlanner(), SPEC)
+    assert res.shot.safety and res.to_dict()["suggestion"]["pocket"] is None
+    assert "No good pot" in res.text
+    render_result(blank_image(cam), res)
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "error", "match"),
+    [
+        ({"drop": (0,)}, ValueError, "no cue ball"),
+        ({"dots": False}, TableFitError, "too few table points"),
+    ],
+)
+def test_bad_photos(kwargs, error, match):
+    cam = camera("45")
+    with pytest.raises(error, match=match):
+        suggest(blank_image(cam), "solids", LabelDetector(cam, example_layout(), **kwargs), NearestPocketPlanner())
+
+
+def test_no_balls_of_any_group():
+    cam = camera("45")
+    layout = example_layout()
+    det = LabelDetector(cam, layout, drop=tuple(i for i in range(len(layout)) if i != layout.cue_index))
+    with pytest.raises(ValueError, match="no object balls"):
+        suggest(blank_image(cam), "auto", det, NearestPocketPlanner())
+
+
+@pytest.mark.parametrize(
+    ("image", "match"),
+    [
+        (np.zeros((10, 10, 3), dtype=np.uint8), "too small"),
+        (np.zeros((100, 100, 3), dtype=np.float32), "RGB uint8"),
+        (np.zeros((100, 100, 2), dtype=np.uint8), "RGB uint8"),
+    ],
+)
+def test_load_image_rejects_bad_arrays(image, match):
+    with pytest.raises(ValueError, match=match):
+        load_image(image)
+
+
+def test_power_levels():
+    assert power_level(0.0) == 1
+    assert power_level(8.0) == 30
+    assert power_level(100.0) == 30
+    assert 1 < power_level(3.0) < 30

@@ -1,0 +1,96 @@
+"""Table-3 evaluation loop and the evaluate / experiment commands."""
+
+import json
+
+import numpy as np
+import pytest
+
+from pix2pockets.cli.main import main
+from pix2pockets.physics import make_simulator
+from pix2pockets.planner.evaluation import (
+    evaluate_planner,
+    play_turn,
+    sample_environment,
+    wilson_interval,
+)
+from pix2pockets.planner.experiments import ball_shift, cue_pot_precision, shifted
+from pix2pockets.planner.oracle import OracleConfig, OraclePlanner
+from pix2pockets.rules import GameState
+from pix2pockets.state import Group
+
+
+@pytest.fixture(scope="module")
+def sim():
+    return make_simulator("event")
+
+
+def test_wilson():
+    lo, hi = wilson_interval(50, 100)
+    assert lo < 0.5 < hi and hi - lo == pytest.approx(0.19, abs=0.01)
+    assert wilson_interval(0, 0) == (0.0, 1.0)
+
+
+def test_environments():
+    rng = np.random.default_rng(0)
+    assert [b.number for b in sample_environment(2, rng).balls] == [0, 8]
+    assert len(sample_environment(16, rng)) == 16
+    with pytest.raises(ValueError, match="balls"):
+        sample_environment(3, rng)
+
+
+def test_turn_and_summary_are_seeded(sim):
+    planner = OraclePlanner(OracleConfig(max_speed=2.0))
+    a = evaluate_planner(planner, sim.simulate, balls=16, layouts=3, seed=1)
+    b = evaluate_planner(planner, sim.simulate, balls=16, layouts=3, seed=1)
+    assert (a.shots, a.successes, a.clears) == (b.shots, b.successes, b.clears)
+    assert a.shots >= 3 and 0 <= a.per_shot_success <= 1
+    lay = sample_environment(1, np.random.default_rng(3))
+    rec = play_turn(lay, GameState(Group.SOLIDS), planner, sim.simulate)
+    assert rec.shots == 1 and rec.cleared == (rec.successes == 1)
+
+
+def test_ball_shift(sim):
+    lay = sample_environment(2, np.random.default_rng(0))
+    moved = shifted(lay, 1, 0.025, np.random.default_rng(0))
+    assert np.linalg.norm(moved.positions[1] - lay.positions[1]) == pytest.approx(0.025)
+    rates = ball_shift(OraclePlanner(OracleConfig(max_speed=2.0)), sim.simulate, layouts=4)
+    assert set(rates) == {"none", "shift1", "shift2"} and all(r.trials == 4 for r in rates.values())
+
+
+def test_cue_pot_precision(sim):
+    rates = cue_pot_precision(sim.simulate, sigmas_deg=(0.0, 5.0), layouts=10)
+    assert rates[0.0].value >= 0.9  # aimed at a clear pocket window without noise: it drops
+    assert rates[5.0].trials == 10
+
+
+def test_evaluate_planner_cli(tmp_path, capsys):
+    out = tmp_path / "res.json"
+    code = main(["evaluate", "planner", "--planner", "oracle", "--balls", "2", "--layouts", "3", "--json", str(out),
+                 "--no-progress"])  # fmt: skip
+    assert code == 0
+    data = json.loads(out.read_text())
+    assert {"per_shot_success", "full_turn_clear", "per_shot_success_ci95"} <= set(data)
+    assert "per-shot success" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["evaluate", "planner", "--layouts", "0"],
+        ["evaluate", "planner", "--noise", "loud", "--layouts", "1"],
+        ["evaluate", "planner", "--json", "/nonexistent/dir/x.json", "--layouts", "1"],
+    ],
+)
+def test_evaluate_planner_cli_errors(argv, capsys):
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "error" in err and "Traceback" not in err
+
+
+def test_experiment_cli(capsys):
+    assert main(["experiment", "aim-precision", "--layouts", "2", "--sigmas", "0", "1", "--balls", "1"]) == 0
+    assert "1-ball (pot the cue ball)" in capsys.readouterr().out
+    assert main(["experiment", "aim-precision", "--layouts", "2", "--sigmas", "0", "--balls", "2"]) == 0
+    assert "oracle 2-ball" in capsys.readouterr().out
+    assert main(["experiment", "ball-shift", "--layouts", "2", "--planners", "oracle"]) == 0
+    assert "shift-2" in capsys.readouterr().out

@@ -1,0 +1,125 @@
+"""Search planner on the event physics: easy pots, determinism, rule consistency, fallback."""
+
+import math
+
+import numpy as np
+import pytest
+
+from pix2pockets.physics import make_simulator
+from pix2pockets.planner import ShotKind, find_hitpoints
+from pix2pockets.planner.position import direct_pot_probabilities, pot_probability
+from pix2pockets.planner.search import SearchConfig, SearchPlanner, _runs
+from pix2pockets.rules import GameState, turn_outcome
+from pix2pockets.state import Ball, Group, Shot, TableLayout, random_layout
+
+SOLIDS = GameState(Group.SOLIDS)
+MID = 1.27
+FAST = {"time_budget": None, "samples": 4, "max_candidates": 4, "speeds": (1.0, 2.0), "heights": (0.0, -0.3)}
+
+
+def layout(*pos, numbers=None):
+    numbers = numbers or list(range(len(pos)))
+    return TableLayout(tuple(Ball.numbered(n) for n in numbers), np.array(pos, dtype=float))
+
+
+@pytest.fixture(scope="module")
+def planner():
+    return SearchPlanner(SearchConfig(**FAST))
+
+
+def test_pots_an_easy_straight_in(planner):
+    lay = layout([MID, 0.8], [MID, 0.3], [2.0, 1.0], numbers=[0, 1, 9])
+    best = planner.suggest(lay, SOLIDS, np.random.default_rng(0))[0]
+    assert (best.target, best.pocket, best.kind) == (1, 1, ShotKind.DIRECT)
+    assert best.success_probability >= 0.75
+    assert best.shot.angle == pytest.approx(-math.pi / 2, abs=math.radians(2))
+    res = planner.simulator.simulate(lay, best.shot)
+    assert turn_outcome(res, SOLIDS).shot_succeeded
+
+
+def test_deterministic_with_seed(planner):
+    lay = random_layout(np.random.default_rng(11), list(range(16)))
+    a = planner.suggest(lay, SOLIDS, np.random.default_rng(4))
+    b = planner.suggest(lay, SOLIDS, np.random.default_rng(4))
+    assert [(s.shot, s.target, s.pocket, s.success_probability) for s in a] == [
+        (s.shot, s.target, s.pocket, s.success_probability) for s in b
+    ]
+
+
+def test_success_predicate_matches_rules(planner):
+    sim = planner.simulator
+    rng = np.random.default_rng(2)
+    for seed in range(3):
+        lay = random_layout(np.random.default_rng(seed), list(range(16)))
+        cleared = GameState(Group.SOLIDS)
+        rows = np.column_stack([rng.uniform(-math.pi, math.pi, 40), rng.uniform(0.5, 4.0, 40), np.zeros((40, 3))])
+        first, pocket, _ = planner._run(lay, rows)
+        ok = planner._success(first, pocket, lay, cleared)
+        for row, flag in zip(rows, ok, strict=True):
+            res = sim.simulate(lay, Shot(float(row[0]), float(row[1])))
+            assert turn_outcome(res, cleared).shot_succeeded == bool(flag)
+
+
+def test_eight_ball_when_group_cleared(planner):
+    lay = layout([MID, 0.8], [MID, 0.3], [2.0, 1.0], numbers=[0, 8, 9])
+    best = planner.suggest(lay, SOLIDS, np.random.default_rng(0))[0]
+    assert best.target == 1
+    assert turn_outcome(planner.simulator.simulate(lay, best.shot), SOLIDS).outcome.value == "win"
+
+
+def test_never_empty_when_snookered(planner):
+    lay = layout([1.0, 0.6], [0.2, 0.6], [0.7, 0.6], [0.7, 0.66], [0.7, 0.54], numbers=[0, 1, 9, 10, 11])
+    sugg = planner.suggest(lay, SOLIDS, np.random.default_rng(0))
+    assert sugg and isinstance(sugg[0].shot, Shot)
+
+
+def test_vectorised_lookahead_matches_hitpoints():
+    sigma = math.radians(0.125)
+    for seed in range(5):
+        lay = random_layout(np.random.default_rng(seed), list(range(16)))
+        targets = [1, 2, 3, 4, 5, 6, 7]
+        fast = direct_pot_probabilities(lay.positions, 0, targets, lay.spec, sigma)
+        slow = np.zeros_like(fast)
+        for h in find_hitpoints(lay, targets):
+            slow[targets.index(h.target), h.pocket] = pot_probability(h, lay.spec.ball_radius, sigma)
+        np.testing.assert_allclose(fast, slow, atol=1e-9)
+
+
+def test_runs_circular():
+    assert _runs(np.array([True, False, False, True, True])) == [(3, 3)]
+    assert _runs(np.array([False, True, True, False])) == [(1, 2)]
+    assert _runs(np.array([True, True])) == [(0, 2)]
+
+
+def test_works_with_a_shot_by_shot_simulator():
+    class Plain:  # no simulate_arrays: the planner falls back to simulate()
+        name = "plain"
+
+        def __init__(self):
+            self.inner = make_simulator("event")
+
+        def simulate(self, layout, shot, stop="rest"):
+            return self.inner.simulate(layout, shot)
+
+        def simulate_batch(self, layout, shots, stop="rest"):
+            return [self.simulate(layout, s) for s in shots]
+
+    p = SearchPlanner(SearchConfig(**{**FAST, "samples": 2}), simulator=Plain())
+    lay = layout([MID, 0.8], [MID, 0.3], numbers=[0, 1])
+    assert p.suggest(lay, SOLIDS)[0].target == 1
+
+
+@pytest.mark.parametrize(
+    ("kw", "match"),
+    [({"fan": 4}, "fan"), ({"speeds": ()}, "speeds"), ({"heights": (0.7,)}, "heights"), ({"noise": "x"}, "noise")],
+)
+def test_bad_config(kw, match):
+    with pytest.raises(ValueError, match=match):
+        SearchConfig(**kw)
+
+
+def test_potted_target_names_the_own_ball_that_dropped():
+    lay = layout([MID, 0.8], [MID, 0.3], [2.0, 1.0], numbers=[0, 9, 1])
+    row = np.array([-1, 3, 1])  # the stripe went into pocket 3, the solid (index 2) into pocket 1
+    assert SearchPlanner._potted_target(row, lay, SOLIDS) == 2
+    assert SearchPlanner._potted_target(np.array([-1, 3, -1]), lay, SOLIDS) is None

@@ -1,0 +1,122 @@
+import numpy as np
+import pytest
+
+from pix2pockets.geometry import PinholeCamera, TableSpec
+from pix2pockets.vision.analytic import standard_views
+from pix2pockets.vision.detections import Detections
+from pix2pockets.vision.table_fit import TableFitError, diamond_height, fit_rail_lines, fit_table
+
+SPEC = TableSpec()
+VIEWS = standard_views(SPEC)
+
+
+def dots_of(cam: PinholeCamera, noise: float = 0.0, seed: int = 0) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    return cam.project_table(SPEC.diamonds, diamond_height(SPEC)) + rng.normal(0, noise, (18, 2))
+
+
+@pytest.mark.parametrize("view", sorted(VIEWS))
+def test_corners_and_labels_from_shuffled_noisy_dots(view):
+    cam = VIEWS[view]
+    rng = np.random.default_rng(1)
+    perm = rng.permutation(18)
+    fit = fit_table(dots_of(cam, 0.5)[perm], cam.image_size, SPEC)
+    np.testing.assert_array_equal(fit.dot_index, perm)
+    corners = cam.project_table(SPEC.corners, 0.0)
+    assert np.abs(fit.corners_px - corners).max() < 3.0
+    # homography maps cloth pixels to table metres
+    xy = np.array([[0.5, 0.3], [2.0, 1.0]])
+    h = np.column_stack([cam.project_table(xy, 0.0), np.ones(2)]) @ fit.homography.T
+    np.testing.assert_allclose(h[:, :2] / h[:, 2:], xy, atol=0.01)
+
+
+def test_half_turn_convention_puts_head_rail_left():
+    cam = VIEWS["top"]
+    # the same table seen by a camera turned by 180 degrees: the fit relabels so the head stays left
+    centre = np.array([*SPEC.size / 2, 0.0])
+    turned = PinholeCamera.look_at(centre + np.array([0, 0, 3.0]), centre, cam.focal_px, cam.image_size, roll=np.pi)
+    fit = fit_table(dots_of(turned), turned.image_size, SPEC)
+    head = fit.table_to_image(np.array([0.0, SPEC.width / 2]))
+    foot = fit.table_to_image(np.array([SPEC.length, SPEC.width / 2]))
+    assert head[0] < foot[0]
+    np.testing.assert_array_equal(fit.dot_index, (np.arange(18) + 9) % 18)
+
+
+@pytest.mark.parametrize(
+    "hidden",
+    [
+        [15, 16, 17],  # a whole short rail (cropped)
+        [0, 1, 2, 6],  # a player covers part of the bottom rail and a foot dot
+        [3, 4, 5, 6, 7, 8, 9, 10],  # a scoreboard over the foot end
+        [1, 4, 10, 13, 16],  # scattered
+    ],
+)
+@pytest.mark.parametrize("view", ["45", "front"])
+def test_missing_dots(view, hidden):
+    cam = VIEWS[view]
+    keep = np.setdiff1d(np.arange(18), hidden)
+    fit = fit_table(dots_of(cam, 0.3)[keep], cam.image_size, SPEC)
+    np.testing.assert_array_equal(fit.dot_index, keep)
+    assert np.abs(fit.corners_px - cam.project_table(SPEC.corners, 0.0)).max() < 6.0
+
+
+def test_false_positive_dots_are_ignored():
+    cam = VIEWS["45"]
+    rng = np.random.default_rng(3)
+    extra = rng.uniform([300, 200], [900, 500], (4, 2))
+    fit = fit_table(np.vstack([dots_of(cam), extra]), cam.image_size, SPEC)
+    assert (fit.dot_index[18:] == -1).all()
+    np.testing.assert_array_equal(fit.dot_index[:18], np.arange(18))
+
+
+def test_accepts_detections():
+    cam = VIEWS["front"]
+    d = dots_of(cam)
+    det = Detections(np.column_stack([d - 3, d + 3]), np.linspace(0.5, 0.9, 18), np.full(18, 4))
+    fit = fit_table(det, cam.image_size, SPEC)
+    assert fit.n_matched == 18
+
+
+@pytest.mark.parametrize(
+    ("dots", "message"),
+    [
+        (np.zeros((0, 2)), "too few table points"),
+        (np.array([[1, 1], [5, 5], [9, 1.0]]), "too few table points"),
+        (np.array([[100.0 + 50 * i, 300.0] for i in range(6)]), "too few table points"),  # one rail only
+        (np.array([[np.nan, 1.0]] * 5), "finite"),
+    ],
+)
+def test_bad_input_raises_clear_error(dots, message):
+    with pytest.raises(TableFitError, match=message):
+        fit_table(dots, (1280, 720), SPEC)
+
+
+def test_random_scatter_is_not_a_table():
+    pts = np.random.default_rng(5).uniform([0, 0], [1280, 720], (14, 2))
+    with pytest.raises(TableFitError):
+        fit_table(pts, (1280, 720), SPEC)
+
+
+def test_fit_rail_lines_splits_rails():
+    d = dots_of(VIEWS["top"])
+    lines = fit_rail_lines(d, tol_px=2.0)
+    sizes = sorted(len(x) for x in lines)
+    assert sizes == [3, 3, 6, 6]
+
+
+def test_close_phone_view_with_a_corner_behind_the_camera():
+    # standing at the bottom rail near the foot end, looking along the table toward the head end
+    cam = PinholeCamera.look_at(np.array([2.2, -0.15, 0.45]), np.array([0.4, 0.9, 0.0]), 700.0, (960, 540))
+    uv = cam.project_table(SPEC.diamonds, diamond_height(SPEC))
+    w, h = cam.image_size
+    seen = np.flatnonzero(
+        np.all(np.isfinite(uv), axis=1) & (uv[:, 0] >= 0) & (uv[:, 0] < w) & (uv[:, 1] >= 0) & (uv[:, 1] < h)
+    )
+    assert len(seen) >= 8
+    fit = fit_table(uv[seen], cam.image_size, SPEC)
+    assert fit.camera.focal_px == pytest.approx(700.0, rel=0.02)
+    corners = fit.corners_px
+    truth = cam.project_table(SPEC.corners, 0.0)
+    both = np.all(np.isfinite(truth), axis=1) & np.all(np.isfinite(corners), axis=1)
+    assert both.any()
+    assert np.abs(corners[both] - truth[both]).max() < 5.0
