@@ -127,3 +127,8 @@ def test_agent_planner_plans_the_shot(tmp_path, photo_file, capsys):
     assert main(["suggest", str(photo_file), "--agent", str(bundled[0]), "--json", "-"]) == 0
     doc = json.loads(capsys.readouterr().out)
     assert doc["suggestion"]["power_level"] in range(1, 31)
+
+
+def test_bad_time_budget(tmp_path, photo_file, capsys):
+    assert main(["suggest", str(photo_file), "--time-budget", "-1"]) == 2
+    assert "--time-budget" in capsys.readouterr().err

@@ -33,6 +33,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--json", dest="json_out", help="write the result as JSON here ('-' for stdout)")
     parser.add_argument("--model", help="detector ONNX model (default: the bundled one)")
     parser.add_argument(
+        "--time-budget",
+        type=float,
+        metavar="SECONDS",
+        help="cap the planner's search per group (default: none, so results are reproducible)",
+    )
+    parser.add_argument(
         "--agent", help="plan with a trained RL agent file (pix2pockets rl train) instead of the search planner"
     )
     parser.add_argument("--method", choices=["sphere", "contact", "linear"], default="sphere", help="ball location")
@@ -113,7 +119,15 @@ def run(args: argparse.Namespace) -> int:
         from pix2pockets.vision.onnx_detector import OnnxDetector
 
         detector = OnnxDetector(args.model)
-    planner = load_agent_planner(args.agent) if args.agent else None
+    if args.time_budget is not None and not args.time_budget > 0:
+        raise ValueError(f"--time-budget must be a positive number of seconds, got {args.time_budget}")
+    planner = None  # the pipeline's default planner
+    if args.agent:
+        planner = load_agent_planner(args.agent)
+    elif args.time_budget is not None:
+        from pix2pockets.pipeline.planning import default_planner
+
+        planner = default_planner(args.time_budget)
     rgb = load_image(image)
     from pix2pockets.geometry import table_preset
 
