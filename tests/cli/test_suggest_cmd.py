@@ -1,4 +1,5 @@
 import json
+from importlib import resources
 
 import cv2
 import numpy as np
@@ -105,3 +106,29 @@ def test_without_image_uses_the_bundled_example(tmp_path, standins, capsys):
     doc = json.loads(js.read_text())
     assert doc["image"]["path"].endswith("table_example.jpg")
     assert doc["image"]["width"] == 1280
+
+
+def test_agent_planner_file_errors(tmp_path, photo_file, capsys):
+    out = tmp_path / "out.png"
+    assert main(["suggest", str(photo_file), "--agent", str(tmp_path / "missing.zip"), "--out", str(out)]) == 2
+    assert "does not exist" in capsys.readouterr().err
+    assert not out.exists()
+
+
+def test_agent_planner_plans_the_shot(tmp_path, photo_file, capsys):
+    pytest.importorskip("stable_baselines3")
+    from pix2pockets.rl.agent import load_agent
+
+    agents = resources.files("pix2pockets.data.agents")
+    bundled = sorted(p for p in agents.iterdir() if p.name.endswith(".zip"))
+    if not bundled:
+        pytest.skip("no bundled agent in this build")
+    load_agent(str(bundled[0]))  # loads without error
+    assert main(["suggest", str(photo_file), "--agent", str(bundled[0]), "--json", "-"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["suggestion"]["power_level"] in range(1, 31)
+
+
+def test_bad_time_budget(tmp_path, photo_file, capsys):
+    assert main(["suggest", str(photo_file), "--time-budget", "-1"]) == 2
+    assert "--time-budget" in capsys.readouterr().err

@@ -116,3 +116,10 @@ def test_works_with_a_shot_by_shot_simulator():
 def test_bad_config(kw, match):
     with pytest.raises(ValueError, match=match):
         SearchConfig(**kw)
+
+
+def test_potted_target_names_the_own_ball_that_dropped():
+    lay = layout([MID, 0.8], [MID, 0.3], [2.0, 1.0], numbers=[0, 9, 1])
+    row = np.array([-1, 3, 1])  # the stripe went into pocket 3, the solid (index 2) into pocket 1
+    assert SearchPlanner._potted_target(row, lay, SOLIDS) == 2
+    assert SearchPlanner._potted_target(np.array([-1, 3, -1]), lay, SOLIDS) is None

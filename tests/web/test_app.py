@@ -252,3 +252,15 @@ def test_unexpected_errors_outside_the_pipeline_answer_json(rendered, monkeypatc
     monkeypatch.setattr(web_app, "_upload_name", broken)
     r = post(TestClient(create_app(LabelsDetector(rendered[1])), raise_server_exceptions=False), rendered[0])
     assert r.status_code == 500 and r.json() == {"error": "internal error: KeyError"}
+
+
+def test_bundled_model_and_planner_on_the_example(rendered):
+    """The defaults end to end (skipped in builds without the detector model)."""
+    from pix2pockets.vision.onnx_detector import default_model_path
+
+    if not default_model_path().is_file():
+        pytest.skip("no bundled detector model in this build")
+    doc = post(TestClient(create_app()), rendered[0], "auto", name="table.jpg").json()
+    assert "error" not in doc, doc
+    assert doc["suggestion"]["group"] in ("solids", "stripes") and len(doc["balls"]) >= 8
+    assert doc["picture_png_base64"]

@@ -32,6 +32,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--out", help="write the result picture here (.png or .jpg)")
     parser.add_argument("--json", dest="json_out", help="write the result as JSON here ('-' for stdout)")
     parser.add_argument("--model", help="detector ONNX model (default: the bundled one)")
+    parser.add_argument(
+        "--time-budget",
+        type=float,
+        metavar="SECONDS",
+        help="cap the planner's search per group (default: none, so results are reproducible)",
+    )
+    parser.add_argument(
+        "--agent", help="plan with a trained RL agent file (pix2pockets rl train) instead of the search planner"
+    )
     parser.add_argument("--method", choices=["sphere", "contact", "linear"], default="sphere", help="ball location")
     parser.add_argument("--table", choices=["9ft", "8ft", "7ft"], default="9ft", help="table size (default 9ft)")
     parser.add_argument("--force", action="store_true", help="overwrite existing output files")
@@ -76,6 +85,18 @@ def encode_image(rgb, suffix: str) -> bytes:
     return buf.tobytes()
 
 
+def load_agent_planner(path: str):
+    """A planner backed by an RL agent file; clear errors for a missing file or a missing ``rl`` extra."""
+    try:
+        from pix2pockets.rl.agent import AgentPlanner, load_agent
+    except ImportError as err:
+        raise ValueError(f"--agent needs the 'rl' extra (pip install '.[rl]'): {err}") from None
+    try:
+        return AgentPlanner(load_agent(path))
+    except ImportError as err:
+        raise ValueError(f"--agent needs the 'rl' extra (pip install '.[rl]'): {err}") from None
+
+
 def run(args: argparse.Namespace) -> int:
     check_output(args.out, args.force, IMAGE_SUFFIXES)
     check_output(args.json_out, args.force)
@@ -98,10 +119,26 @@ def run(args: argparse.Namespace) -> int:
         from pix2pockets.vision.onnx_detector import OnnxDetector
 
         detector = OnnxDetector(args.model)
+    if args.time_budget is not None and not args.time_budget > 0:
+        raise ValueError(f"--time-budget must be a positive number of seconds, got {args.time_budget}")
+    planner = None  # the pipeline's default planner
+    if args.agent:
+        planner = load_agent_planner(args.agent)
+    elif args.time_budget is not None:
+        from pix2pockets.pipeline.planning import default_planner
+
+        planner = default_planner(args.time_budget)
     rgb = load_image(image)
     from pix2pockets.geometry import table_preset
 
-    result = suggest(rgb, group=args.group, detector=detector, spec=table_preset(args.table), locate_method=args.method)
+    result = suggest(
+        rgb,
+        group=args.group,
+        detector=detector,
+        planner=planner,
+        spec=table_preset(args.table),
+        locate_method=args.method,
+    )
     # everything is computed before anything is written: errors leave no partial outputs
     picture = encode_image(render_result(rgb, result), Path(args.out).suffix.lower()) if args.out else None
     doc = result.to_dict()

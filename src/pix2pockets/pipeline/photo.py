@@ -4,7 +4,7 @@ Example:
     >>> import pix2pockets
     >>> s = pix2pockets.suggest("table.jpg", group="auto")  # doctest: +SKIP
     >>> s.text  # doctest: +SKIP
-    'solid ball #3 -> top-right pocket, direct, power 12/30, 81% chance (solids)'
+    'solid ball at (1.92, 0.41) m -> top-right pocket, direct, power 12/30, 81% chance (solids)'
 """
 
 from __future__ import annotations
@@ -28,8 +28,9 @@ from pix2pockets.vision.postprocess import postprocess
 from pix2pockets.vision.table_fit import fit_table
 
 MIN_IMAGE_SIDE = 64  # [px]
-BALL_CONFIDENCE = 0.3
-DOT_CONFIDENCE = 0.25
+# Minimum confidence per class id (cue, black, solid, stripe, dot). Cue and black are capped at one
+# detection each by post-processing, so a lower bar costs at most one false ball and keeps a faint cue.
+MIN_CONFIDENCE = np.array([0.15, 0.15, 0.3, 0.3, 0.25])
 
 
 @functools.lru_cache(maxsize=1)
@@ -67,9 +68,9 @@ def load_image(image: str | Path | np.ndarray) -> np.ndarray:
 
 
 def clean_detections(det: Detections) -> Detections:
-    """Post-process raw detections: NMS and class caps, then confidence thresholds for balls and dots."""
+    """Post-process raw detections: NMS and class caps, then per-class confidence thresholds."""
     det = postprocess(det)
-    keep = np.where(det.is_dot, det.confidence >= DOT_CONFIDENCE, det.confidence >= BALL_CONFIDENCE)
+    keep = det.confidence >= MIN_CONFIDENCE[det.class_id]
     return det[keep]
 
 

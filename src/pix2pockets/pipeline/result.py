@@ -117,8 +117,9 @@ class ShotAdvice:
         if self.safety or self.target_ball is None:
             return f"No good pot for {self.group}: safe shot at power {self.power_level}/30{chance}"
         ball = balls[self.target_ball]
+        x, y = ball.table_xy_m
         return (
-            f"{ball.ball_class} ball #{self.target_ball} -> {self.pocket} pocket, {self.kind}, "
+            f"{ball.ball_class} ball at ({x:.2f}, {y:.2f}) m -> {self.pocket} pocket, {self.kind}, "
             f"power {self.power_level}/30{chance} ({self.group})"
         )
 

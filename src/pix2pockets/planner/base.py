@@ -21,7 +21,9 @@ class Suggestion:
         shot: the stroke to play.
         target: object ball index the shot pots (``None`` for a safety / no-pot shot).
         pocket: pocket index (``TableSpec.pockets`` order), or ``None``.
-        kind: direct, bank or kick; ``None`` for a safety.
+        kind: direct, bank or kick; ``None`` for a safety or for a pot found by the search planner's
+            full-circle sweep (a combination or multi-cushion shot; ``target`` and ``pocket`` are then
+            the ball that dropped and where).
         success_probability: estimated probability of a legal pot of an own ball, in [0, 1]; ``None``
             when the planner does not estimate it (the paper's Oracle).
         value: the planner's ranking value (higher is better; its meaning depends on the planner).

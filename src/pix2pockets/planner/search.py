@@ -107,6 +107,7 @@ class _Stroke:
     hp: Hitpoint | None
     target: int
     margin: float = 0.0  # width of the potting aim run [rad]
+    pocket: int | None = None  # for strokes found without a hitpoint: where the potted own ball dropped
     clean: float = 0.0  # score of the clean execution
     runs: int = 0
     successes: int = 0
@@ -248,7 +249,10 @@ class SearchPlanner:
             seg = ok[j * n : (j + 1) * n]
             for start, length in _runs(seg):
                 centre = j * n + (start + (length - 1) // 2) % n
-                stroke = _Stroke(Shot(float(rows[centre, 0]), speed), None, int(first[centre]), length * step)
+                potted = self._potted_target(pocket[centre], layout, state)
+                target = int(first[centre]) if potted is None else potted
+                stroke = _Stroke(Shot(float(rows[centre, 0]), speed), None, target, length * step)
+                stroke.pocket = None if potted is None else int(pocket[centre, potted])
                 stroke.clean = 1.0 + cfg.lookahead * self._value(layout, state, pocket[centre], final[centre], sigma)
                 out.append(stroke)
         return out
@@ -362,10 +366,18 @@ class SearchPlanner:
         return [base]
 
     @staticmethod
+    def _potted_target(pocket_row: np.ndarray, layout: TableLayout, state: GameState) -> int | None:
+        """The first legal target (by index) that dropped in this outcome row, if any."""
+        for i in legal_targets(layout, state):
+            if pocket_row[i] >= 0:
+                return i
+        return None
+
+    @staticmethod
     def _suggestion(s: _Stroke) -> Suggestion:
         hp = s.hp
-        if hp is None:
-            return Suggestion(s.shot, s.target, None, None, s.p, s.ev, None)
+        if hp is None:  # found by the full-circle sweep: a combination or multi-cushion shot
+            return Suggestion(s.shot, s.target, s.pocket, None, s.p, s.ev, None)
         return Suggestion(s.shot, hp.target, hp.pocket, hp.kind, s.p, s.ev, hp)
 
 

@@ -46,8 +46,8 @@ def evaluate_detector(detector: Detector, root: str, options: EvalOptions | None
     """Run ``detector`` on a dataset split and compute metrics before | after post-processing.
 
     Returns:
-        A JSON-ready report: ``{"mode", "n_images", "before", "after"}`` with per-class (or agnostic) metrics in
-        percent. In agnostic mode a detector with ``detect_balls`` (the any-ball heatmap) is also scored as
+        A JSON-ready report: ``{"mode", "n_images", "before", "after"}`` with per-class (or agnostic) metrics as
+        fractions in [0, 1]. In agnostic mode a detector with ``detect_balls`` (the any-ball heatmap) is also scored as
         ``"ball_head"``.
     """
     opt = options or EvalOptions()

@@ -282,6 +282,15 @@ def label_candidates(
     strong = sum(len(x) >= 3 for x in usable)
     if strong >= 2:  # two-dot lines only join hypotheses when there are not enough longer lines
         pairs = [(a, b) for a, b in pairs if len(usable[a]) >= 3 and len(usable[b]) >= 3]
+    elif strong == 1:
+        # greedy two-dot lines are arbitrary: pair the long line with every pair of the other dots
+        main = next(i for i, x in enumerate(usable) if len(x) >= 3)
+        rest = np.setdiff1d(np.arange(len(dots)), usable[main])
+        extra = [np.array(p) for p in itertools.combinations(rest.tolist(), 2)]
+        if len(extra) <= 45:
+            base = len(usable)
+            usable = usable + extra
+            pairs = [(main, base + k) for k in range(len(extra))]
     n_on_lines = sum(len(x) for x in usable)
     tried = 0
     for a, b in pairs:
