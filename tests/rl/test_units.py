@@ -81,3 +81,15 @@ def test_masked_sample_stays_inside_the_mask():
     mask[12] = True
     draws = {tuple(masked_sample(mask, np.array([10, 3]), rng)) for _ in range(50)}
     assert draws == {(2, 2), (7, 2)}
+
+
+def test_cli_explains_a_missing_rl_extra(monkeypatch, capsys, tmp_path):
+    import pix2pockets.rl as rl
+    from pix2pockets.cli.main import main
+
+    monkeypatch.setattr(rl, "missing_rl_modules", lambda: ["torch", "stable_baselines3"])
+    argv = ["rl", "train", "--algo", "ppo", "--env", "one", "--steps", "10", "--out", str(tmp_path / "r")]
+    assert main(argv) == 2
+    err = capsys.readouterr().err
+    assert "install the rl extra" in err and "Traceback" not in err
+    assert not (tmp_path / "r").exists()
