@@ -132,3 +132,14 @@ def test_agent_planner_plans_the_shot(tmp_path, photo_file, capsys):
 def test_bad_time_budget(tmp_path, photo_file, capsys):
     assert main(["suggest", str(photo_file), "--time-budget", "-1"]) == 2
     assert "--time-budget" in capsys.readouterr().err
+
+
+def test_outputs_get_normal_permissions(tmp_path, photo_file):
+    import os
+    import stat
+
+    out = tmp_path / "out.png"
+    assert main(["suggest", str(photo_file), "--out", str(out)]) == 0
+    mask = os.umask(0)
+    os.umask(mask)
+    assert stat.S_IMODE(out.stat().st_mode) == 0o666 & ~mask

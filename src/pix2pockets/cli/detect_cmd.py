@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 from pathlib import Path
+
+from pix2pockets.cli.output import write_atomic
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -39,7 +40,7 @@ def run(args: argparse.Namespace) -> int:
         "before_postprocess": raw.to_list(),
         "after_postprocess": post.to_list(),
     }
-    _write_atomic(args.json_out, json.dumps(report, indent=1))
+    write_atomic(args.json_out, json.dumps(report, indent=1))
     if args.draw:
         import cv2
 
@@ -53,11 +54,3 @@ def run(args: argparse.Namespace) -> int:
         counts[name] = counts.get(name, 0) + 1
     print(f"{args.image}: {len(raw)} raw, {len(post)} after post-processing {counts} -> {args.json_out}")
     return 0
-
-
-def _write_atomic(path: str, text: str) -> None:
-    """Write a file in one go (no partial file on error)."""
-    tmp = f"{path}.tmp"
-    with open(tmp, "w") as f:
-        f.write(text)
-    os.replace(tmp, path)

@@ -3,9 +3,9 @@
 from __future__ import annotations
 
 import argparse
-import json
-import os
 from pathlib import Path
+
+from pix2pockets.cli.output import write_json
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -55,9 +55,6 @@ def run(args: argparse.Namespace) -> int:
     opts = EvalOptions(args.split, args.agnostic, ball_classes, args.conf, limit=args.limit)
     report = evaluate_detector(detector, args.data, opts, progress=not args.quiet)
     report.update({"data": str(args.data), "model": model, "conf_threshold": args.conf})
-    tmp = f"{args.json_out}.tmp"
-    with open(tmp, "w") as f:
-        json.dump(report, f, indent=1)
-    os.replace(tmp, args.json_out)
+    write_json(args.json_out, report, indent=1)
     print(format_table(report))
     return 0

@@ -9,10 +9,9 @@ Example::
 from __future__ import annotations
 
 import argparse
-import json
-import os
 from pathlib import Path
 
+from pix2pockets.cli.output import write_json
 from pix2pockets.planner.evaluation import BALL_SETS, evaluate_planner
 from pix2pockets.planner.noise import noise_model
 from pix2pockets.planner.registry import PLANNER_NAMES, make_planner
@@ -91,7 +90,5 @@ def run(args: argparse.Namespace) -> int:
         f"p95 {data['decision_time_p95_s'] * 1000:.1f} ms, max {data['decision_time_max_s'] * 1000:.1f} ms"
     )
     if out is not None:
-        tmp = out.with_name(out.name + ".tmp")
-        tmp.write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
-        os.replace(tmp, out)
+        write_json(out, data)
     return 0

@@ -7,10 +7,9 @@ success with the target ball shifted by the location error and by 2.5 cm).
 from __future__ import annotations
 
 import argparse
-import json
-import os
 from pathlib import Path
 
+from pix2pockets.cli.output import write_json
 from pix2pockets.planner.experiments import (
     PAPER_SHIFT1,
     PAPER_SHIFT2,
@@ -71,9 +70,7 @@ def _check(args: argparse.Namespace) -> Path | None:
 def _write(out: Path | None, data: dict) -> None:
     if out is None:
         return
-    tmp = out.with_name(out.name + ".tmp")
-    tmp.write_text(json.dumps(data, indent=2) + "\n", encoding="utf-8")
-    os.replace(tmp, out)
+    write_json(out, data)
 
 
 def run_aim(args: argparse.Namespace) -> int:

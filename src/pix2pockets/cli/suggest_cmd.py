@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
-import tempfile
 from importlib import resources
 from pathlib import Path
+
+from pix2pockets.cli.output import write_atomic
 
 EXAMPLE_PHOTO = "table_example.jpg"
 EXAMPLE_LABELS = "table_example.labels.json"
@@ -61,19 +61,6 @@ def check_output(path: str | None, force: bool, suffixes: tuple[str, ...] | None
         raise ValueError(f"output folder {p.parent} does not exist")
     if p.exists() and not force:
         raise ValueError(f"output {path} exists; use --force to overwrite it")
-
-
-def write_atomic(path: str, data: bytes) -> None:
-    """Write ``data`` to ``path`` via a temporary file in the same folder and a rename."""
-    target = Path(path)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=target.parent)
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        os.replace(tmp, target)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
 
 
 def encode_image(rgb, suffix: str) -> bytes:
