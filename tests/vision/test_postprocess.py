@@ -2,7 +2,14 @@ import numpy as np
 import pytest
 
 from pix2pockets.vision.detections import Detections
-from pix2pockets.vision.postprocess import apply_caps, box_iou, class_agnostic_nms, nms_indices, postprocess
+from pix2pockets.vision.postprocess import (
+    apply_caps,
+    box_iou,
+    class_agnostic_nms,
+    nms_indices,
+    postprocess,
+    resolve_ball_classes,
+)
 
 
 def _grid(n: int, cls: int, conf: np.ndarray | None = None, x0: float = 0.0) -> Detections:
@@ -73,3 +80,32 @@ def test_bad_caps():
         apply_caps(_grid(2, 0), caps=(-1, 1, 7, 7, 18))
     with pytest.raises(ValueError, match="no cap"):
         apply_caps(_grid(2, 4), caps=(1, 1))
+
+
+def _ball(x: float) -> list[float]:
+    return [x, 0.0, x + 10.0, 10.0]
+
+
+def test_resolve_keeps_a_faint_cue_that_paper_nms_loses():
+    # ball A: stripe 0.67 and cue 0.5 (every head fires); ball B: a clear solid
+    det = Detections(np.array([_ball(0), _ball(0.5), _ball(100)]), np.array([0.67, 0.5, 0.9]), np.array([3, 0, 2]))
+    assert 0 not in postprocess(det).class_id.tolist()  # the paper's NMS keeps only 'stripe' for ball A
+    out = resolve_ball_classes(det)
+    assert sorted(out.class_id.tolist()) == [0, 2]
+    cue = out[out.class_id == 0]
+    assert cue.confidence[0] == pytest.approx(0.5)
+
+
+def test_resolve_gives_cue_to_the_clearest_ball_only_once():
+    # ball A is mostly cue, ball B has some cue score but is mostly stripe
+    det = Detections(np.array([_ball(0), _ball(100), _ball(100.5)]), np.array([0.8, 0.6, 0.9]), np.array([0, 0, 3]))
+    out = resolve_ball_classes(det)
+    assert len(out) == 2
+    assert out.class_id[np.argmin(out.boxes[:, 0])] == 0
+    assert out.class_id[np.argmax(out.boxes[:, 0])] == 3
+
+
+def test_resolve_passes_dots_and_handles_no_balls():
+    dots = Detections(np.array([_ball(0), _ball(50)]), np.array([0.9, 0.8]), np.array([4, 4]))
+    assert resolve_ball_classes(dots).class_id.tolist() == [4, 4]
+    assert len(resolve_ball_classes(Detections.empty())) == 0

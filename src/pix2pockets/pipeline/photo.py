@@ -24,7 +24,7 @@ from pix2pockets.vision.base import Detector
 from pix2pockets.vision.classes import CLASS_NAMES
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.postprocess import postprocess
+from pix2pockets.vision.postprocess import resolve_ball_classes
 from pix2pockets.vision.table_fit import fit_table
 
 MIN_IMAGE_SIDE = 64  # [px]
@@ -68,8 +68,8 @@ def load_image(image: str | Path | np.ndarray) -> np.ndarray:
 
 
 def clean_detections(det: Detections) -> Detections:
-    """Post-process raw detections: NMS and class caps, then per-class confidence thresholds."""
-    det = postprocess(det)
+    """Post-process raw detections (class-aware grouping, NMS, caps), then per-class confidence thresholds."""
+    det = resolve_ball_classes(det)
     keep = det.confidence >= MIN_CONFIDENCE[det.class_id]
     return det[keep]
 

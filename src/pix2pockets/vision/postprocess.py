@@ -91,3 +91,46 @@ def postprocess(
 ) -> Detections:
     """Class-agnostic NMS, then per-class caps (paper section 6.1); result sorted by confidence."""
     return apply_caps(class_agnostic_nms(det, iou_threshold), caps)
+
+
+def resolve_ball_classes(det: Detections, iou_threshold: float = DEFAULT_NMS_IOU) -> Detections:
+    """Class-aware post-processing for the product pipeline (ours, not the paper's).
+
+    The paper's NMS keeps each ball's single most confident class, so when every class head fires on the
+    cue ball (cue 0.5, stripe 0.67, say) the table loses its cue ball. Here overlapping ball detections are
+    grouped into one ball with a score per class; the cue and the 8 are then given to the ball that is most
+    clearly each (score times its share of that ball's best score), once each, and every other ball takes
+    the better of solid and stripe. Dots pass through; finally the usual caps apply.
+
+    On the synthetic test split this lifts cue AP50 from 3 to 40 and the class average from 39 to 50
+    (``docs/benchmarks-detector.md``).
+    """
+    balls, dots = det[det.is_ball], det[det.is_dot]
+    if not len(balls):
+        return postprocess(det, iou_threshold)
+    used = np.zeros(len(balls), dtype=bool)
+    leaders, scores = [], []
+    for i in np.argsort(-balls.confidence, kind="stable"):
+        if used[i]:
+            continue
+        members = np.flatnonzero((box_iou(balls.boxes[i : i + 1], balls.boxes)[0] >= iou_threshold) & ~used)
+        used[members] = True
+        per_class = np.zeros(4)
+        np.maximum.at(per_class, balls.class_id[members], balls.confidence[members])
+        leaders.append(i)
+        scores.append(per_class)
+    S = np.array(scores)
+    best = np.maximum(S.max(axis=1), 1e-9)
+    assigned = np.full(len(S), -1)
+    for k in (0, 1):  # cue, then black: at most one ball each
+        claim = np.where(assigned < 0, S[:, k] * S[:, k] / best, -1.0)
+        j = int(np.argmax(claim))
+        if claim[j] > 0:
+            assigned[j] = k
+    rest = assigned < 0
+    assigned[rest] = 2 + np.argmax(S[rest, 2:], axis=1)
+    conf = S[np.arange(len(S)), assigned]
+    conf = np.where(conf > 0, conf, S.max(axis=1))
+    idx = np.asarray(leaders, dtype=int)
+    resolved = Detections(balls.boxes[idx], conf, assigned, balls.contact[idx])
+    return postprocess(Detections.concatenate([resolved, dots]), iou_threshold)
