@@ -36,3 +36,19 @@ def write_atomic(path: str | os.PathLike[str], data: bytes | str) -> None:
 def write_json(path: str | os.PathLike[str], data: Any, indent: int = 2) -> None:
     """Write ``data`` as JSON (UTF-8, trailing newline) with :func:`write_atomic`."""
     write_atomic(path, json.dumps(data, indent=indent) + "\n")
+
+
+def check_output(path: str | None, force: bool, suffixes: tuple[str, ...] | None = None) -> None:
+    """Refuse outputs that would overwrite a file (without ``force``), sit in a missing folder, or have
+    an unsupported suffix."""
+    if path is None or path == "-":
+        return
+    p = Path(path)
+    if suffixes and p.suffix.lower() not in suffixes:
+        raise ValueError(f"output {path}: unsupported file type (use one of {', '.join(suffixes)})")
+    if p.is_dir():
+        raise ValueError(f"output {path} is a directory")
+    if not p.parent.exists():
+        raise ValueError(f"output folder {p.parent} does not exist")
+    if p.exists() and not force:
+        raise ValueError(f"output {path} exists; use --force to overwrite it")

@@ -7,7 +7,7 @@ import json
 from importlib import resources
 from pathlib import Path
 
-from pix2pockets.cli.output import write_atomic
+from pix2pockets.cli.output import check_output, write_atomic
 
 EXAMPLE_PHOTO = "table_example.jpg"
 EXAMPLE_LABELS = "table_example.labels.json"
@@ -47,31 +47,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.set_defaults(func=run)
 
 
-def check_output(path: str | None, force: bool, suffixes: tuple[str, ...] | None = None) -> None:
-    """Refuse outputs that would overwrite a file (without ``force``), sit in a missing folder, or have
-    an unsupported suffix."""
-    if path is None or path == "-":
-        return
-    p = Path(path)
-    if suffixes and p.suffix.lower() not in suffixes:
-        raise ValueError(f"output {path}: unsupported file type (use one of {', '.join(suffixes)})")
-    if p.is_dir():
-        raise ValueError(f"output {path} is a directory")
-    if not p.parent.exists():
-        raise ValueError(f"output folder {p.parent} does not exist")
-    if p.exists() and not force:
-        raise ValueError(f"output {path} exists; use --force to overwrite it")
-
-
-def encode_image(rgb, suffix: str) -> bytes:
-    import cv2
-
-    ok, buf = cv2.imencode(suffix if suffix != ".jpeg" else ".jpg", rgb[:, :, ::-1].copy())
-    if not ok:
-        raise ValueError(f"could not encode the picture as {suffix}")
-    return buf.tobytes()
-
-
 def load_agent_planner(path: str):
     """A planner backed by an RL agent file; clear errors for a missing file or a missing ``rl`` extra."""
     try:
@@ -98,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
     if args.image is None and not Path(image).is_file():
         raise ValueError("no IMAGE given and the bundled example photo is missing from this build")
 
-    from pix2pockets.pipeline.draw import render_result
+    from pix2pockets.pipeline.draw import encode_picture, render_result
     from pix2pockets.pipeline.photo import load_image, suggest
 
     detector = None
@@ -127,7 +102,7 @@ def run(args: argparse.Namespace) -> int:
         locate_method=args.method,
     )
     # everything is computed before anything is written: errors leave no partial outputs
-    picture = encode_image(render_result(rgb, result), Path(args.out).suffix.lower()) if args.out else None
+    picture = encode_picture(render_result(rgb, result), Path(args.out).suffix) if args.out else None
     doc = result.to_dict()
     doc["image"]["path"] = str(image)
     text = json.dumps(doc, indent=2)

@@ -101,11 +101,9 @@ def _png(rgb: np.ndarray, max_side: int) -> bytes:
     if max(h, w) > max_side:
         s = max_side / max(h, w)
         rgb = cv2.resize(rgb, (round(w * s), round(h * s)), interpolation=cv2.INTER_AREA)
-    # fastest zlib level: a photo barely compresses further, and it is ~2x quicker than level 3
-    ok, buf = cv2.imencode(".png", np.ascontiguousarray(rgb[:, :, ::-1]), [cv2.IMWRITE_PNG_COMPRESSION, 1])
-    if not ok:  # pragma: no cover - cv2 encodes any uint8 RGB image
-        raise WebError(500, "could not encode the result picture")
-    return buf.tobytes()
+    from pix2pockets.pipeline.draw import encode_picture
+
+    return encode_picture(rgb, ".png", fast=True)
 
 
 def _page() -> str:
