@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import torch
 
+from pix2pockets.vision.classes import BALL_IDS
 from pix2pockets.vision.heatmap_layout import CONTACT_SLICE, N_HEAT, OFFSET_SLICE, SIZE_SLICE
 
 
@@ -35,6 +36,23 @@ def _gather(out: torch.Tensor, index: torch.Tensor) -> torch.Tensor:
     return flat.gather(2, index[:, None, :].expand(n, c, index.shape[1])).permute(0, 2, 1)
 
 
+CLASS_WEIGHT = 1.0
+
+
+def ball_class_loss(out: torch.Tensor, batch: dict[str, torch.Tensor]) -> torch.Tensor:
+    """Softmax cross-entropy over the four ball-class logits at each labelled ball centre.
+
+    The focal loss treats the class heatmaps independently, so every head learns "ball here" and fires on every
+    ball; this term makes them compete, which is what the class decision downstream needs.
+    """
+    label = batch["ball_class"]
+    known = label >= 0
+    if not bool(known.any()):
+        return out.new_zeros(())
+    logits = _gather(out[:, list(BALL_IDS)], batch["index"])  # (N, K, 4)
+    return torch.nn.functional.cross_entropy(logits[known], label[known])
+
+
 def detector_loss(out: torch.Tensor, batch: dict[str, torch.Tensor]) -> tuple[torch.Tensor, dict[str, float]]:
     """Total loss and its parts for a batch; see :class:`pix2pockets.vision.train.targets.Sample`."""
     heat = focal_loss(out[:, :N_HEAT], batch["heat"], batch["kind_mask"])
@@ -46,6 +64,8 @@ def detector_loss(out: torch.Tensor, batch: dict[str, torch.Tensor]) -> tuple[to
     cont = (torch.abs(_gather(out[:, CONTACT_SLICE], batch["index"]) - batch["contact"]) * cm).sum() / cm.sum().clamp(
         min=1.0
     )
-    total = heat + size + off + 0.5 * cont
-    parts = {k: float(v.detach()) for k, v in (("heat", heat), ("size", size), ("offset", off), ("contact", cont))}
+    cls = ball_class_loss(out, batch)
+    total = heat + size + off + 0.5 * cont + CLASS_WEIGHT * cls
+    named = (("heat", heat), ("size", size), ("offset", off), ("contact", cont), ("class", cls))
+    parts = {k: float(v.detach()) for k, v in named}
     return total, parts

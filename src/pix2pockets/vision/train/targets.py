@@ -57,6 +57,7 @@ class Sample:
     offset: np.ndarray  # (MAX_OBJECTS, 2)
     contact: np.ndarray  # (MAX_OBJECTS, 2)
     contact_mask: np.ndarray  # (MAX_OBJECTS,)
+    ball_class: np.ndarray  # (MAX_OBJECTS,) int64 ball class 0-3, -1 where unknown (dots, ball-only photos)
 
 
 def draw_gaussian(heat: np.ndarray, cx: int, cy: int, sigma: float) -> None:
@@ -136,6 +137,7 @@ def make_sample(
     offset = np.zeros((MAX_OBJECTS, 2), np.float32)
     contact = np.zeros((MAX_OBJECTS, 2), np.float32)
     contact_mask = np.zeros(MAX_OBJECTS, np.float32)
+    ball_class = np.full(MAX_OBJECTS, -1, np.int64)
 
     boxes = item.boxes.copy()
     if len(boxes):
@@ -171,5 +173,9 @@ def make_sample(
             if is_ball and np.all(np.isfinite(cont[i])):
                 contact[n] = cont[i] / STRIDE - ci
                 contact_mask[n] = 1
+            if not ball_only and det_k in BALL_IDS:
+                ball_class[n] = det_k
             n += 1
-    return Sample(img.transpose(2, 0, 1).copy(), heat, kind_mask, index, reg_mask, size, offset, contact, contact_mask)
+    return Sample(
+        img.transpose(2, 0, 1).copy(), heat, kind_mask, index, reg_mask, size, offset, contact, contact_mask, ball_class
+    )

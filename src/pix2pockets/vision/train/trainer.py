@@ -7,6 +7,7 @@ index))``, so a resumed run sees the same samples as an uninterrupted one.
 
 from __future__ import annotations
 
+import dataclasses
 import fnmatch
 import json
 import math
@@ -117,7 +118,7 @@ def _read_rgb(path: Path) -> np.ndarray:
 
 
 def _collate(samples: list) -> dict[str, torch.Tensor]:
-    keys = ("image", "heat", "kind_mask", "index", "reg_mask", "size", "offset", "contact", "contact_mask")
+    keys = [f.name for f in dataclasses.fields(samples[0])]
     return {k: torch.from_numpy(np.stack([getattr(s, k) for s in samples])) for k in keys}
 
 
