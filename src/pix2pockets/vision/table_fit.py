@@ -74,6 +74,7 @@ class TableFit:
             NaN for corners whose two rails lacked the dots to intersect.
         rms_px: root-mean-square reprojection error of the matched points [px].
         n_matched: number of matched dots.
+        diamond_z: height of the diamond plane above the cloth used for ``camera`` [m].
     """
 
     spec: TableSpec
@@ -82,6 +83,20 @@ class TableFit:
     diamond_corners_px: np.ndarray
     rms_px: float
     n_matched: int
+    diamond_z: float
+
+    def with_diamond_z(self, z: float) -> TableFit:
+        """The same fit for diamonds at height ``z`` [m] above the cloth.
+
+        The dots fix the camera relative to the diamond plane; another plane height only moves the cloth
+        (and the camera's height above it): ``t' = t - R e_z (z - z_old)``.
+        """
+        cam = self.camera
+        t = cam.t - cam.R[:, 2] * (float(z) - self.diamond_z)
+        camera = PinholeCamera(cam.K, cam.R, t, cam.image_size)
+        return TableFit(
+            self.spec, camera, self.dot_index, self.diamond_corners_px, self.rms_px, self.n_matched, float(z)
+        )
 
     @property
     def homography(self) -> np.ndarray:
@@ -528,7 +543,7 @@ def fit_table(
 
     dot_index_full = np.full(n_total, -1)
     dot_index_full[back] = index
-    return TableFit(spec, camera, dot_index_full, corners, rms, n_matched)
+    return TableFit(spec, camera, dot_index_full, corners, rms, n_matched, h)
 
 
 def _fit_labelled(
