@@ -45,6 +45,11 @@ RAIL_DIAMONDS: tuple[tuple[int, ...], ...] = ((0, 1, 2, 3, 4, 5), (6, 7, 8), (9,
 MIN_DOTS = 4
 MAX_DOTS = 40  # more candidates than this are cut by confidence (false positives)
 MAX_HYPOTHESES = 2000  # rail-assignment hypotheses tried before giving up on better ones
+MIN_SCATTER_DOF = 3  # rail-line residual degrees of freedom needed to judge the reprojection error
+REPROJECTION_FACTOR = 4.0  # reprojection rms may be this many times the dots' 2-D scatter ...
+REPROJECTION_FLOOR_PX = 2.5  # ... or this many pixels [px]
+REPROJECTION_MAX_PX = 4.0  # dots' reprojection rms never above this [px] ...
+REPROJECTION_MAX_DIAG = 0.003  # ... or this fraction of the image diagonal, whichever is larger
 
 
 DIAMOND_RISE = 0.0075
@@ -607,6 +612,7 @@ def _fit_labelled(
         raise TableFitError(
             f"no table found: only {n_matched} of {len(pts)} dots fit the diamond pattern of a {spec.name} table"
         )
+    check_reprojection(camera, pts, index, h, spec)
     if camera.position[2] < spec.cushion_height + 0.2:
         raise TableFitError("no table found: the fitted camera is not above the table")
     validate_corners(camera.project_table(rect, h), image_size)
@@ -614,6 +620,48 @@ def _fit_labelled(
         raise TableFitError(f"no table found: implausible camera (focal length {camera.focal_px:.0f} px)")
 
     return camera, index, corners, rms, n_matched
+
+
+def dot_scatter(pts: np.ndarray, index: np.ndarray) -> tuple[float, int]:
+    """Scatter of the matched dots about their own rail lines [px] (per-coordinate standard deviation),
+    pooled over rails with 3+ matched dots, and its degrees of freedom (0: not measurable).
+
+    A correct labelling puts each rail's dots on one line in the image, so this measures the detector's
+    dot noise independently of the fitted camera.
+    """
+    ss, dof = 0.0, 0
+    for ids in RAIL_DIAMONDS:
+        m = np.isin(index, ids)
+        if m.sum() >= 3:
+            line = _tls_line(pts[m])
+            ss += float(np.sum((pts[m] @ line[:2] + line[2]) ** 2))
+            dof += int(m.sum()) - 2
+    return (math.sqrt(ss / dof) if dof else 0.0), dof
+
+
+def check_reprojection(camera: PinholeCamera, pts: np.ndarray, index: np.ndarray, h: float, spec: TableSpec) -> None:
+    """Reject a camera whose reprojection error of the matched dots is large in absolute terms
+    (``REPROJECTION_MAX_PX`` or ``REPROJECTION_MAX_DIAG`` of the image diagonal) or far larger than the dots'
+    own scatter about their rail lines (a wrong labelling that a general homography still fits roughly).
+
+    Raises:
+        TableFitError: with both numbers.
+    """
+    m = index >= 0
+    proj = camera.project_table(spec.diamonds[index[m]], h)
+    err = float(np.sqrt(np.mean(np.sum((proj - pts[m]) ** 2, axis=1))))
+    absolute = max(REPROJECTION_MAX_PX, REPROJECTION_MAX_DIAG * math.hypot(*camera.image_size))
+    if not err <= absolute:
+        raise TableFitError(f"no table found: the dots do not fit one camera (reprojection {err:.1f} px)")
+    sigma, dof = dot_scatter(pts, index)
+    if dof < MIN_SCATTER_DOF:
+        return
+    limit = max(REPROJECTION_FLOOR_PX, REPROJECTION_FACTOR * math.sqrt(2.0) * sigma)
+    if not err <= limit:
+        raise TableFitError(
+            f"no table found: the dots do not fit one camera (reprojection {err:.1f} px, "
+            f"dot scatter about the rails {sigma:.1f} px)"
+        )
 
 
 def _balls_on_table(camera: PinholeCamera, centres_px: np.ndarray, spec: TableSpec) -> int:
