@@ -518,11 +518,17 @@ def fit_table(
     if not np.all(np.isfinite(pts)):
         raise TableFitError("dot positions must be finite")
     if len(pts) < MIN_DOTS:
-        raise TableFitError(f"too few table points: {len(pts)} diamonds detected, need at least {MIN_DOTS}")
+        raise TableFitError(
+            f"too few table points: {len(pts)} diamonds detected, need at least {MIN_DOTS} on two rails "
+            "(show more of the table: two rails with their sights, not hidden by players or the frame edge)"
+        )
     tol = tol_px if tol_px is not None else _tolerance_px(pts, image_size)
     lines = fit_rail_lines(pts, tol)
     if sum(len(x) >= 2 for x in lines) < 2:
-        raise TableFitError("too few table points: diamonds on at least two rails are needed")
+        raise TableFitError(
+            f"too few table points: the {len(pts)} diamonds found lie on one rail; diamonds on at least two "
+            "rails are needed"
+        )
     h = diamond_height(spec) if diamond_z is None else float(diamond_z)
     fits = []
     first_error: TableFitError | None = None
