@@ -12,8 +12,8 @@ camera is exact for every ``r`` up to a vertical shift of the cloth, see
 :meth:`~pix2pockets.vision.table_fit.TableFit.with_diamond_z`). Per nose segment the samples are reduced
 by a median (balls, cues and hands on the rail are outliers), giving an edge-strength profile over ``r``;
 the profiles of the segments are normalised by their noise and summed, and the best ``r`` is refined to
-sub-step precision. The estimate is used only when the peak is clear and the segments agree; otherwise
-the prior height stays (graceful fallback).
+sub-step precision. The estimate is used only when the peak is clear and inside the searched range;
+otherwise the fit's assumed height stays (graceful fallback).
 """
 
 from __future__ import annotations
@@ -30,12 +30,9 @@ RISE_RANGE = (-0.004, 0.024)
 """Searched rise of the diamond plane above the cushion nose [m]."""
 RISE_STEP = 0.00025  # [m]
 SAMPLE_SPACING_PX = 2.0
-END_MARGIN = 0.05
+END_MARGIN = 0.05  # nose length left out next to each pocket's jaws [m]
 MIN_SENSITIVITY = 10.0  # least nose shift across itself per metre of rise [px / m]
-SENS_POWER = 0.0
-NORMALISE = 0
-MIN_SCORE = 8.0
-PER_SEGMENT_CAP = 0.0  # nose length left out next to each pocket's jaws [m]
+MIN_SCORE = 8.0  # least combined peak strength to trust the estimate (noise units)
 
 
 @dataclass(frozen=True, slots=True)
@@ -185,8 +182,9 @@ def estimate_rail_height(
         min_score: least combined peak strength (noise units) to accept the estimate.
 
     Returns:
-        A :class:`RailHeight`; ``measured`` is ``False`` (the fit's height kept) when the edges are too weak,
-        the peak lies at the end of the search range or the segments disagree.
+        A :class:`RailHeight`; ``measured`` is ``False`` (the fit's height kept) when fewer than two noses
+        are in view across the line of sight, the edges are too weak or the peak lies at the end of the
+        search range.
     """
     spec = fit.spec
 
@@ -199,16 +197,13 @@ def estimate_rail_height(
     profiles, noise, sens = profiles[use], noise[use], sens[use]
     if len(profiles) < 2:
         return fallback("fewer than two cushion noses in view across the line of sight", 0.0, len(profiles))
-    weight = (sens / sens.max()) ** SENS_POWER
-    strength = np.abs(profiles) / noise[:, None] * weight[:, None]
-    if PER_SEGMENT_CAP > 0:
-        strength = np.minimum(strength, PER_SEGMENT_CAP)
-    if NORMALISE:
-        strength = strength / strength.max(axis=1, keepdims=True)
+    # every segment counts alike: weighting by sensitivity lets one far rail (whose cushion top, face
+    # and cap edges crowd together) decide alone, which was worse on the renders
+    strength = np.abs(profiles) / noise[:, None]
     total = strength.sum(axis=0)
     k = int(np.argmax(total))
     base = float(np.median(total))
-    score = float(total[k] - base) / math.sqrt(float(np.sum(weight**2)))
+    score = float(total[k] - base) / math.sqrt(len(profiles))
     if k in (0, len(rises) - 1):
         return fallback("cushion nose edge at the end of the searched heights", score, len(profiles))
     if score < (MIN_SCORE if min_score is None else min_score):
