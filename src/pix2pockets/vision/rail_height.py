@@ -198,7 +198,8 @@ def estimate_rail_height(
     if len(profiles) < 2:
         return fallback("fewer than two cushion noses in view across the line of sight", 0.0, len(profiles))
     # every segment counts alike: weighting by sensitivity lets one far rail (whose cushion top, face
-    # and cap edges crowd together) decide alone, which was worse on the renders
+    # and cap edges crowd together) decide alone, and a weighted median of per-segment peaks follows
+    # single segments onto other edges; both were worse on the renders
     strength = np.abs(profiles) / noise[:, None]
     total = strength.sum(axis=0)
     k = int(np.argmax(total))
@@ -208,11 +209,16 @@ def estimate_rail_height(
         return fallback("cushion nose edge at the end of the searched heights", score, len(profiles))
     if score < (MIN_SCORE if min_score is None else min_score):
         return fallback(f"cushion nose edges too weak (score {score:.1f})", score, len(profiles))
-    y0, y1, y2 = total[k - 1], total[k], total[k + 1]
+    rise = _peak(rises, total, k)
+    return RailHeight(spec.cushion_height + rise, rise, True, score, len(profiles))
+
+
+def _peak(rises: np.ndarray, values: np.ndarray, k: int) -> float:
+    """Sub-step position of the maximum ``values[k]`` (parabola through its neighbours)."""
+    y0, y1, y2 = values[k - 1], values[k], values[k + 1]
     den = y0 - 2 * y1 + y2
     offset = 0.5 * (y0 - y2) / den if den < 0 else 0.0
-    rise = float(rises[k] + np.clip(offset, -0.5, 0.5) * RISE_STEP)
-    return RailHeight(spec.cushion_height + rise, rise, True, score, len(profiles))
+    return float(rises[k] + np.clip(offset, -0.5, 0.5) * (rises[1] - rises[0]))
 
 
 def refine_fit_height(

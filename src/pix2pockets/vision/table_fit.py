@@ -253,6 +253,16 @@ def _line_candidates(points: np.ndarray, line: np.ndarray, spec: TableSpec) -> l
     return out
 
 
+def _without_stray_dot(points: np.ndarray, line: np.ndarray, spec: TableSpec) -> list[np.ndarray]:
+    """The line itself, or when its dots fit no run of diamonds (a false dot on the rail: a pocket jaw, a
+    cushion edge, a mark on the cap) the variants without one dot that do. Lines of 4+ dots only."""
+    if len(line) < 4 or _line_candidates(points, line, spec):
+        return [line]
+    variants = [np.delete(line, i) for i in range(len(line))]
+    good = [v for v in variants if _line_candidates(points, v, spec)]
+    return good or [line]
+
+
 def _hypotheses(points: np.ndarray, line_a: np.ndarray, line_b: np.ndarray, spec: TableSpec):
     """Yield (dot indices, diamond indices) for two lines assigned to two different rails."""
 
@@ -292,11 +302,15 @@ def label_candidates(
     """
     diamonds = spec.diamonds
     tol_m = tol_m if tol_m is not None else 0.25 * spec.length / 8
-    usable = [ln for ln in lines if len(ln) >= 2]
+    usable, group = [], []
+    for g, ln in enumerate(x for x in lines if len(x) >= 2):
+        for variant in _without_stray_dot(dots, ln, spec):
+            usable.append(variant)
+            group.append(g)
     best: tuple[int, float] | None = None
     found: dict[tuple, tuple[tuple[int, float], np.ndarray]] = {}
     pairs = sorted(
-        itertools.combinations(range(len(usable)), 2),
+        ((a, b) for a, b in itertools.combinations(range(len(usable)), 2) if group[a] != group[b]),
         key=lambda ab: (-min(len(usable[ab[0]]), len(usable[ab[1]])), -len(usable[ab[0]]) - len(usable[ab[1]])),
     )
     strong = sum(len(x) >= 3 for x in usable)
