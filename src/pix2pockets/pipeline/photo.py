@@ -120,8 +120,10 @@ def suggest(
     timings["fit"] = time.perf_counter() - t
 
     t = time.perf_counter()
+    measured = False
     if measure_rail_height:  # the cloth lies an unknown height below the diamonds: measure it
-        fit, _ = refine_fit_height(rgb, fit, det[det.is_ball].boxes)
+        fit, est = refine_fit_height(rgb, fit, det[det.is_ball].boxes)
+        measured = est.measured
     timings["rail_height"] = time.perf_counter() - t
 
     t = time.perf_counter()
@@ -155,4 +157,6 @@ def suggest(
         )
     )
     timings["total"] = time.perf_counter() - t0
-    return Suggestion((w, h), fit.corners_px, fit.homography, balls, advice, layout, fit.camera, timings)
+    return Suggestion(
+        (w, h), fit.corners_px, fit.homography, balls, advice, layout, fit.camera, timings, fit.diamond_z, measured
+    )
