@@ -133,8 +133,9 @@ def edge_profiles(
         uv = cam.project(pts)  # (n, k, 2)
         inner = cam.project(pts + np.array([normal[0], normal[1], 0.0]) * 0.01)
         d = inner - uv
-        d /= np.linalg.norm(d, axis=-1, keepdims=True)
-        ok = np.all(np.isfinite(uv), axis=(1, 2))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            d /= np.linalg.norm(d, axis=-1, keepdims=True)
+        ok = np.all(np.isfinite(uv), axis=(1, 2)) & np.all(np.isfinite(d), axis=(1, 2))
         ok &= np.all((uv[..., 0] > 2) & (uv[..., 0] < w_img - 3) & (uv[..., 1] > 2) & (uv[..., 1] < h_img - 3), axis=1)
         if len(boxes):
             mid = uv[:, len(rises) // 2]
@@ -205,6 +206,8 @@ def estimate_rail_height(
     k = int(np.argmax(total))
     base = float(np.median(total))
     score = float(total[k] - base) / math.sqrt(len(profiles))
+    if not np.isfinite(score):
+        return fallback("cushion nose edges could not be measured", 0.0, len(profiles))
     if k in (0, len(rises) - 1):
         return fallback("cushion nose edge at the end of the searched heights", score, len(profiles))
     if score < (MIN_SCORE if min_score is None else min_score):
