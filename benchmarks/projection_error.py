@@ -8,15 +8,15 @@ paper, which found 0.4 cm).
 
 With ``--rendered N`` the views are instead N multi-view sets from the synthetic renderer
 (:func:`pix2pockets.synth.renderer.render_views`: top, high ~45 degrees, front; random table size, scene and
-camera per set), and the detections are the renders' exact labels (visible ball boxes, diamond boxes). The
-rail-cap height of the renders varies (3-12 mm above the cushion nose); ``--height`` says where the fit
+camera per set), and the detections are the renders' exact labels (visible ball boxes, diamond boxes;
+with ``--onnx`` the bundled detector's instead). The rail-cap height of the renders varies (3-12 mm above the cushion nose); ``--height`` says where the fit
 takes it from: ``assumed`` (:func:`~pix2pockets.vision.table_fit.diamond_height`), ``image`` (measured
 from the cushion noses in the render, :mod:`pix2pockets.vision.rail_height`, as the pipeline does) or
 ``known`` (the render's true height).
 
 Usage:
     PYTHONPATH=src python benchmarks/projection_error.py --json OUT.json [--sets 25] [--noise 0.5]
-    PYTHONPATH=src python benchmarks/projection_error.py --rendered 8 --json OUT.json [--height image]
+    PYTHONPATH=src python benchmarks/projection_error.py --rendered 8 --json OUT.json [--height image] [--onnx]
 """
 
 from __future__ import annotations
@@ -82,9 +82,15 @@ def run(sets: int, noise: float, seed: int) -> dict:
     return summarise(truth_err, v2v, {"sets": sets, "noise_px": noise, "seed": seed, "fit_failures": failures})
 
 
-def run_rendered(sets: int, seed: int, height: str, size: tuple[int, int]) -> dict:
+def run_rendered(sets: int, seed: int, height: str, size: tuple[int, int], onnx: bool = False) -> dict:
     from pix2pockets.synth.renderer import render_views
     from pix2pockets.vision.rail_height import refine_fit_height
+
+    detector = None
+    if onnx:
+        from pix2pockets.pipeline.photo import clean_detections, default_detector
+
+        detector = default_detector()
 
     views = ("top", "high", "front")
     truth_err: dict[str, dict[str, list[float]]] = {m.value: {v: [] for v in views} for m in METHODS}
@@ -99,7 +105,10 @@ def run_rendered(sets: int, seed: int, height: str, size: tuple[int, int]) -> di
             lab = rend.labels
             spec = table_preset(lab["table"]["name"])
             scale = TableSpec().length / spec.length  # errors scaled to a 9-ft table, as in the paper
-            det = detections_from_synth_labels(lab)
+            if detector is None:
+                det = detections_from_synth_labels(lab)
+            else:
+                det = clean_detections(detector.detect(rend.image))
             truth = np.array([b["centre_table_m"][:2] for b in lab["balls"] if b["labelled"]])
             z_true = lab["heights_m"]["diamonds"]
             try:
@@ -134,6 +143,7 @@ def run_rendered(sets: int, seed: int, height: str, size: tuple[int, int]) -> di
             "seed": seed,
             "rendered": True,
             "height": height,
+            "detections": "onnx" if onnx else "labels",
             "height_measured": measured,
             "height_error_mm": {v: float(np.mean(e) * 1000) if e else None for v, e in rise_err.items()},
             "size": list(size),
@@ -172,15 +182,18 @@ def main(argv: list[str] | None = None) -> int:
         help="rendered: diamond-plane height assumed, measured from the image, or the render's true one",
     )
     parser.add_argument("--known-height", action="store_true", help="rendered: same as --height known")
+    parser.add_argument(
+        "--onnx", action="store_true", help="rendered: detections from the bundled ONNX detector, not the labels"
+    )
     parser.add_argument("--size", default="1280x720", help="rendered: image size WxH")
     parser.add_argument("--json", help="write results to this JSON file")
     args = parser.parse_args(argv)
     if args.rendered:
         size = tuple(int(v) for v in args.size.lower().split("x"))
         height = "known" if args.known_height else args.height
-        res = run_rendered(args.rendered, args.seed, height, size)
+        res = run_rendered(args.rendered, args.seed, height, size, args.onnx)
         print(
-            f"projection error, {res['sets']} rendered sets x 3 views (exact labels, "
+            f"projection error, {res['sets']} rendered sets x 3 views ({res['detections']}, "
             f"{height} diamond height), scaled to a 9-ft table [cm]"
         )
         print(
