@@ -10,9 +10,10 @@ With ``--rendered N`` the views are instead N multi-view sets from the synthetic
 (:func:`pix2pockets.synth.renderer.render_views`: top, high ~45 degrees, front; random table size, scene and
 camera per set), and the detections are the renders' exact labels (visible ball boxes, diamond boxes;
 with ``--onnx`` the bundled detector's instead). The rail-cap height of the renders varies (3-12 mm
-above the cushion nose); ``--height`` says where the fit takes it from: ``assumed`` (:func:`~pix2pockets.vision.table_fit.diamond_height`), ``image`` (measured
-from the cushion noses in the render, :mod:`pix2pockets.vision.rail_height`, as the pipeline does) or
-``known`` (the render's true height).
+above the cushion nose); ``--height`` says where the fit takes it from: ``assumed``
+(:func:`~pix2pockets.vision.table_fit.diamond_height`), ``image`` (measured from the cushion noses in
+the render, :mod:`pix2pockets.vision.rail_height`, as the pipeline does) or ``known`` (the render's true
+height).
 
 Usage:
     PYTHONPATH=src python benchmarks/projection_error.py --json OUT.json [--sets 25] [--noise 0.5]
