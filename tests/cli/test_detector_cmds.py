@@ -30,6 +30,18 @@ def test_evaluate_hough_writes_table_json(toy, tmp_path, capsys):
     assert "AP50:95" in capsys.readouterr().out
 
 
+def test_evaluate_class_aware_post_processing_is_recorded(toy, tmp_path):
+    out = tmp_path / "e.json"
+    args = ["evaluate", "detector", "--data", str(toy), "--detector", "hough", "--post", "class-aware"]
+    assert main([*args, "--json", str(out), "--quiet"]) == 0
+    rep = json.loads(out.read_text())
+    assert rep["post"] == "class-aware"
+    assert rep["after"]["cue"]["n_det"] <= rep["n_images"]  # at most one cue ball per image
+    with pytest.raises(SystemExit):
+        main([*args[:-1], "nonsense", "--json", str(tmp_path / "x.json")])
+    assert not (tmp_path / "x.json").exists()
+
+
 def test_evaluate_missing_split_is_clean_error(toy, tmp_path, capsys):
     args = ["evaluate", "detector", "--data", str(toy), "--split", "nope", "--detector", "hough"]
     rc = main([*args, "--json", str(tmp_path / "x.json")])

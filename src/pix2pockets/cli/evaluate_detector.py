@@ -27,6 +27,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--input-size", type=int, default=640, help="network input long side px (default 640)")
     parser.add_argument("--threads", type=int, default=1, help="onnxruntime threads (default 1)")
     parser.add_argument("--limit", type=int, default=None, help="only the first N images")
+    parser.add_argument(
+        "--post",
+        choices=["paper", "class-aware"],
+        default="paper",
+        help="post-processing of the 'after' column: the paper's NMS + caps (default) or the pipeline's "
+        "class-aware one",
+    )
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
@@ -52,7 +59,7 @@ def run(args: argparse.Namespace) -> int:
 
         model = str(Path(args.model) if args.model else default_model_path())
         detector = OnnxDetector(model, OnnxDetectorConfig(args.input_size, 0.01, threads=args.threads))
-    opts = EvalOptions(args.split, args.agnostic, ball_classes, args.conf, limit=args.limit)
+    opts = EvalOptions(args.split, args.agnostic, ball_classes, args.conf, limit=args.limit, post=args.post)
     report = evaluate_detector(detector, args.data, opts, progress=not args.quiet)
     report.update({"data": str(args.data), "model": model, "conf_threshold": args.conf})
     write_json(args.json_out, report, indent=1)
