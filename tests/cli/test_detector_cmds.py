@@ -71,3 +71,13 @@ def test_train_detector_tiny_run_writes_onnx_and_resumes(toy, tmp_path):
     image = str(next((toy / "test" / "images").iterdir()))
     rc = main(["detect", image, "--model", str(out / "detector.onnx"), "--json", str(tmp_path / "d.json")])
     assert rc == 0 and "after_postprocess" in json.loads((tmp_path / "d.json").read_text())
+
+
+def test_detect_and_evaluate_refuse_to_overwrite_without_force(toy, tmp_path, capsys):
+    out = tmp_path / "e.json"
+    out.write_text("keep me")
+    args = ["evaluate", "detector", "--data", str(toy), "--detector", "hough", "--json", str(out), "--quiet"]
+    assert main(args) == 2
+    assert "--force" in capsys.readouterr().err and out.read_text() == "keep me"
+    assert main([*args, "--force"]) == 0
+    assert json.loads(out.read_text())["mode"] == "classes"

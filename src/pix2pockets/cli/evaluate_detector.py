@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pix2pockets.cli.output import write_json
+from pix2pockets.cli.output import check_output, write_json
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -34,6 +34,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="post-processing of the 'after' column: the paper's NMS + caps (default) or the pipeline's "
         "class-aware one",
     )
+    parser.add_argument("--force", action="store_true", help="overwrite an existing --json file")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
@@ -41,6 +42,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from pix2pockets.vision.evaluation import EvalOptions, evaluate_detector, format_table
 
+    check_output(args.json_out, args.force)
     try:
         ball_classes = tuple(int(v) for v in args.ball_classes.split(",") if v.strip())
     except ValueError as err:
