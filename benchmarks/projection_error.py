@@ -71,7 +71,7 @@ def run(sets: int, noise: float, seed: int) -> dict:
                 continue
             per_view[name] = {}
             for m in METHODS:
-                loc = locate_balls(fit.camera, det, spec, m)
+                loc = locate_balls(fit.camera, det, spec, m, diamond_z=fit.diamond_z)
                 per_view[name][m.value] = loc.positions
                 truth_err[m.value][name].extend(matched_errors(loc.positions, layout.positions, spec))
         for m in METHODS:
@@ -123,7 +123,7 @@ def run_rendered(sets: int, seed: int, height: str, size: tuple[int, int], onnx:
             rise_err[lab["view"]].append(abs(fit.diamond_z - z_true) * scale)
             per_view[lab["view"]] = {}
             for m in METHODS:
-                loc = locate_balls(fit.camera, det, spec, m)
+                loc = locate_balls(fit.camera, det, spec, m, diamond_z=fit.diamond_z)
                 per_view[lab["view"]][m.value] = loc.positions * scale
                 if len(loc.positions) and len(truth):
                     errs = matched_errors(loc.positions, truth, spec) * scale

@@ -38,7 +38,7 @@ def _errors(fit, det, lab: dict, spec: TableSpec) -> tuple[float, float | None]:
     for r in (0, 2):
         diff = np.abs(np.roll(fit.corners_px, r, axis=0) - truth_c)[near]
         errs.append(float(np.nanmax(diff)) if np.isfinite(diff).any() else np.inf)
-    loc = locate_balls(fit.camera, det, spec)
+    loc = locate_balls(fit.camera, det, spec, diamond_z=fit.diamond_z)
     truth = np.array([b["centre_table_m"][:2] for b in lab["balls"] if b["labelled"]]).reshape(-1, 2)
     if not (len(loc.positions) and len(truth)):
         return min(errs), None

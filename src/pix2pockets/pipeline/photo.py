@@ -127,7 +127,7 @@ def suggest(
     timings["rail_height"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    located = locate_balls(fit.camera, det, spec, locate_method)
+    located = locate_balls(fit.camera, det, spec, locate_method, diamond_z=fit.diamond_z)
     layout = located.to_layout(spec)
     if layout.cue_index is None:
         raise ValueError("no cue ball found on the table")
