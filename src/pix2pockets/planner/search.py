@@ -15,6 +15,9 @@
 4. **Fallback**: with no pot, shots at the legal balls over a range of cut offsets are tried; failing
    that, a legal safety (own ball first, no foul) or a plain shot at the nearest legal ball.
 
+The paper's 1-ball task (only the cue ball on the table) pots the cue ball: the aim fan and the noisy
+replays run over the cue ball's own pocket windows.
+
 Simulators with a lean batch API (``simulate_arrays``, the ``event`` backend) are called in batches;
 others shot by shot. ``time_budget`` [s] stops the search early (results then depend on timing; set it to
 ``None`` for reproducible evaluations).
@@ -29,7 +32,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pix2pockets.physics import Simulator, make_simulator
-from pix2pockets.planner.base import Suggestion, fallback_shot, legal_targets
+from pix2pockets.planner.base import Suggestion, cue_pot_suggestions, fallback_shot, legal_targets, lone_cue
 from pix2pockets.planner.hitpoints import Hitpoint, ShotKind, find_hitpoints
 from pix2pockets.planner.noise import GaussianNoise, noise_model
 from pix2pockets.planner.position import fast_position_value, pot_probability
@@ -164,6 +167,8 @@ class SearchPlanner:
             raise ValueError("cannot plan a shot: the layout has no cue ball")
         sigma = max(self.noise.angle_sigma, _MIN_SIGMA)
         z = rng.standard_normal((cfg.samples + cfg.refine_samples, 5))
+        if lone_cue(layout):
+            return self._pot_cue(layout, state, z, sigma)
         targets = legal_targets(layout, state)
         if not targets:
             return [fallback_shot(layout, state, cfg.speeds[0])]
@@ -196,6 +201,24 @@ class SearchPlanner:
         return [self._suggestion(s) for s in verified + strokes[cfg.max_verified :]]
 
     # -------------------------------------------------------------- phases
+    def _pot_cue(self, layout, state, z, sigma) -> list[Suggestion]:
+        """The paper's 1-ball task: pot the lone cue ball (aim fan and noisy replays per pocket window)."""
+        cfg = self.config
+        meta, rows = [], []
+        for sug in cue_pot_suggestions(layout, cfg.speeds[0]):
+            offsets = np.linspace(-0.75, 0.75, cfg.fan) * min(sug.value, math.radians(4.0))
+            for speed in cfg.speeds:
+                meta.append((None, speed, 0.0, offsets, layout.cue_index))
+                rows.extend((sug.shot.angle + o, speed, 0.0, 0.0, 0.0) for o in offsets)
+        strokes = self._fan_select(meta, np.array(rows).reshape(-1, 5), layout, state, sigma)
+        if not strokes:
+            return [fallback_shot(layout, state, cfg.speeds[0])]
+        for s in strokes:
+            s.prior_p, s.prior_weight = _angle_p(s.margin, sigma), cfg.prior_weight
+        self._replay(strokes, layout, state, z, sigma)
+        strokes.sort(key=lambda s: (-s.ev, -s.p))
+        return [self._suggestion(s) for s in strokes]
+
     def _fan(self, hps: list[Hitpoint], layout, state, sigma) -> list[_Stroke]:
         """Clean executions over an aim fan per stroke; keep the strokes with a potting run."""
         cfg = self.config
@@ -228,6 +251,8 @@ class SearchPlanner:
             row = k * len(offsets) + centre
             step = float(offsets[1] - offsets[0]) if len(offsets) > 1 else math.radians(0.1)
             stroke = _Stroke(Shot(float(rows[row, 0]), speed, 0.0, height), hp, target, margin=length * step)
+            if hp is None:
+                stroke.pocket = int(pocket[row, target])
             stroke.clean = 1.0 + cfg.lookahead * self._value(layout, state, pocket[row], final[row], sigma)
             out.append(stroke)
             if time.perf_counter() > self._deadline:
@@ -313,8 +338,10 @@ class SearchPlanner:
         Mirrors :func:`~pix2pockets.rules.turn_outcome` for the success case: a pot makes the
         no-rail rule moot, so first contact, scratch, the 8 and own pots decide.
         """
-        classes = np.array([b.ball_class.value for b in layout.balls])
         cue, black = layout.cue_index, layout.black_index
+        if lone_cue(layout):  # the 1-ball task: the cue ball is the target
+            return pocket[:, cue] >= 0
+        classes = np.array([b.ball_class.value for b in layout.balls])
         potted = pocket >= 0
         valid_first = first >= 0
         hit = np.where(valid_first, classes[np.maximum(first, 0)], "")
@@ -334,6 +361,8 @@ class SearchPlanner:
 
     def _value(self, layout: TableLayout, state: GameState, pocket_row, final_row, sigma: float) -> float:
         """Next-shot value after a successful shot with these outcome rows."""
+        if lone_cue(layout):
+            return 1.0
         keep = pocket_row < 0
         balls = [b for b, k in zip(layout.balls, keep, strict=True) if k]
         if not any(b.ball_class is BallClass.BLACK for b in balls) and layout.black_index is not None:
