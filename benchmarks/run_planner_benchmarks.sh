@@ -5,7 +5,7 @@ set -u
 OUT=${1:-benchmarks/results}
 NO=${2:-1000}
 NS=${3:-300}
-NR=${4:-300}
+NR=${4:-1000}
 export OMP_NUM_THREADS=1 PYTHONPATH=src
 PY=${PY:-/work/venv/bin/python}
 mkdir -p "$OUT"

@@ -63,6 +63,8 @@ class SearchConfig:
         max_verified: strokes that get noisy replays.
         max_cut: largest cut angle [rad].
         lookahead: weight of the next-shot value.
+        lookahead_sigma: the next-shot pot probabilities assume this multiple of the planning aim sigma
+            (> 1 stands in for the speed, tip and cloth noise the geometric model leaves out).
         time_budget: wall-clock limit per decision [s], ``None`` for none.
         simulator_params: keyword parameters for the simulator backend.
     """
@@ -82,6 +84,7 @@ class SearchConfig:
     max_verified: int = 8
     max_cut: float = math.radians(80.0)
     lookahead: float = 2.0
+    lookahead_sigma: float = 1.0
     time_budget: float | None = 0.5
     simulator_params: dict = field(default_factory=dict, hash=False, compare=False)
 
@@ -99,6 +102,8 @@ class SearchConfig:
             raise ValueError(f"SearchConfig.time_budget must be positive or None, got {self.time_budget}")
         if self.lookahead < 0:
             raise ValueError(f"SearchConfig.lookahead must be >= 0, got {self.lookahead}")
+        if not self.lookahead_sigma > 0:
+            raise ValueError(f"SearchConfig.lookahead_sigma must be positive, got {self.lookahead_sigma}")
         noise_model(self.noise)  # validate the name early
 
 
@@ -375,7 +380,7 @@ class SearchPlanner:
         if not own:
             own = [i for i, b in enumerate(balls) if b.ball_class is BallClass.BLACK]
         cue = next(i for i, b in enumerate(balls) if b.ball_class is BallClass.CUE)
-        return fast_position_value(final_row[keep], cue, own, layout.spec, sigma)
+        return fast_position_value(final_row[keep], cue, own, layout.spec, sigma * self.config.lookahead_sigma)
 
     def _safety(self, layout: TableLayout, state: GameState, targets: list[int]) -> list[Suggestion]:
         """Nothing pots: the first stroke at a legal ball that verifies as foul-free, else the plain fallback."""
