@@ -63,8 +63,15 @@ class SearchConfig:
         max_verified: strokes that get noisy replays.
         max_cut: largest cut angle [rad].
         lookahead: weight of the next-shot value.
-        lookahead_sigma: the next-shot pot probabilities assume this multiple of the planning aim sigma
-            (> 1 stands in for the speed, tip and cloth noise the geometric model leaves out).
+        endgame: with at most this many legal balls left (the group's last balls, or the 8), the best
+            ``endgame_candidates`` hitpoints are expanded over ``endgame_speeds``, ``endgame_heights`` and
+            ``endgame_sides`` (direct shots), and ``max_verified`` and ``refine_top`` are multiplied by
+            ``endgame_scale``; 0 turns this off.
+        endgame_candidates: hitpoints expanded with the endgame stroke set.
+        endgame_speeds: endgame cue-ball speeds [m/s].
+        endgame_heights: endgame vertical tip offsets (fraction of the radius).
+        endgame_sides: endgame side tip offsets (fraction of the radius; english).
+        endgame_scale: endgame multiplier of the verification effort.
         time_budget: wall-clock limit per decision [s], ``None`` for none.
         simulator_params: keyword parameters for the simulator backend.
     """
@@ -84,7 +91,12 @@ class SearchConfig:
     max_verified: int = 8
     max_cut: float = math.radians(80.0)
     lookahead: float = 2.0
-    lookahead_sigma: float = 1.0
+    endgame: int = 2
+    endgame_candidates: int = 4
+    endgame_speeds: tuple[float, ...] = (0.7, 1.0, 1.4, 1.8, 2.4, 3.0)
+    endgame_heights: tuple[float, ...] = (0.0, 0.2, 0.4, -0.2, -0.4)
+    endgame_sides: tuple[float, ...] = (0.0, 0.3, -0.3)
+    endgame_scale: int = 2
     time_budget: float | None = 0.5
     simulator_params: dict = field(default_factory=dict, hash=False, compare=False)
 
@@ -102,8 +114,16 @@ class SearchConfig:
             raise ValueError(f"SearchConfig.time_budget must be positive or None, got {self.time_budget}")
         if self.lookahead < 0:
             raise ValueError(f"SearchConfig.lookahead must be >= 0, got {self.lookahead}")
-        if not self.lookahead_sigma > 0:
-            raise ValueError(f"SearchConfig.lookahead_sigma must be positive, got {self.lookahead_sigma}")
+        if self.endgame < 0 or self.endgame_candidates < 1 or self.endgame_scale < 1:
+            raise ValueError("SearchConfig needs endgame >= 0, endgame_candidates >= 1 and endgame_scale >= 1")
+        if not self.endgame_speeds or any(not s > 0 for s in self.endgame_speeds):
+            raise ValueError(f"SearchConfig.endgame_speeds must be positive, got {self.endgame_speeds}")
+        tips = [math.hypot(s, h) for s in self.endgame_sides for h in self.endgame_heights]
+        if not tips or max(tips) > 0.5 + 1e-9:
+            raise ValueError(
+                f"SearchConfig.endgame_sides {self.endgame_sides} and endgame_heights {self.endgame_heights} "
+                "must combine to tip offsets within 0.5 ball radius"
+            )
         noise_model(self.noise)  # validate the name early
 
 
@@ -181,8 +201,11 @@ class SearchPlanner:
         hps = find_hitpoints(layout, targets, kinds=cfg.kinds, max_cut=cfg.max_cut)
         priors = [pot_probability(h, r, sigma) for h in hps]
         order = sorted(range(len(hps)), key=lambda i: -priors[i])
+        endgame = len(targets) <= cfg.endgame
         strokes: list[_Stroke] = []
-        lo, hi = 0, cfg.max_candidates
+        if endgame:  # few balls left: position play decides the run-out; finer stroke control, more samples
+            strokes += self._fan([hps[i] for i in order[: cfg.endgame_candidates]], layout, state, sigma, True)
+        lo, hi = (cfg.endgame_candidates, 2 * cfg.max_candidates) if endgame else (0, cfg.max_candidates)
         rounds = 0
         while lo < len(order) and time.perf_counter() < self._deadline:
             strokes += self._fan([hps[i] for i in order[lo:hi]], layout, state, sigma)
@@ -195,15 +218,17 @@ class SearchPlanner:
         if not strokes:
             return self._safety(layout, state, targets)
         strokes.sort(key=lambda s: -s.clean * _angle_p(s.margin, sigma))
-        verified = strokes[: cfg.max_verified]
+        scale = cfg.endgame_scale if endgame else 1
+        n_verified = cfg.max_verified * scale
+        verified = strokes[:n_verified]
         for s in verified:
             s.prior_p = _angle_p(s.margin, sigma)
             s.prior_weight = cfg.prior_weight
         self._replay(verified, layout, state, z[: cfg.samples], sigma)
         verified.sort(key=lambda s: (-s.ev, -s.p))
-        self._replay(verified[: cfg.refine_top], layout, state, z[cfg.samples :], sigma)
+        self._replay(verified[: cfg.refine_top * scale], layout, state, z[cfg.samples :], sigma)
         verified.sort(key=lambda s: (-s.ev, -s.p))
-        return [self._suggestion(s) for s in verified + strokes[cfg.max_verified :]]
+        return [self._suggestion(s) for s in verified + strokes[n_verified:]]
 
     # -------------------------------------------------------------- phases
     def _pot_cue(self, layout, state, z, sigma) -> list[Suggestion]:
@@ -213,7 +238,7 @@ class SearchPlanner:
         for sug in cue_pot_suggestions(layout, cfg.speeds[0]):
             offsets = np.linspace(-0.75, 0.75, cfg.fan) * min(sug.value, math.radians(4.0))
             for speed in cfg.speeds:
-                meta.append((None, speed, 0.0, offsets, layout.cue_index))
+                meta.append((None, speed, 0.0, 0.0, offsets, layout.cue_index))
                 rows.extend((sug.shot.angle + o, speed, 0.0, 0.0, 0.0) for o in offsets)
         strokes = self._fan_select(meta, np.array(rows).reshape(-1, 5), layout, state, sigma)
         if not strokes:
@@ -224,20 +249,24 @@ class SearchPlanner:
         strokes.sort(key=lambda s: (-s.ev, -s.p))
         return [self._suggestion(s) for s in strokes]
 
-    def _fan(self, hps: list[Hitpoint], layout, state, sigma) -> list[_Stroke]:
+    def _fan(self, hps: list[Hitpoint], layout, state, sigma, endgame: bool = False) -> list[_Stroke]:
         """Clean executions over an aim fan per stroke; keep the strokes with a potting run."""
         cfg = self.config
         r = layout.spec.ball_radius
+        speeds = cfg.endgame_speeds if endgame else cfg.speeds
         rows, meta = [], []
         for hp in hps:
             gain = max(hp.cue_distance / (2 * r * max(math.cos(hp.cut_angle), 0.1)), 1.0)
             tol = float(np.clip(0.5 * hp.clear_window / gain, math.radians(0.03), math.radians(2.0)))
             offsets = np.linspace(-1.5 * tol, 1.5 * tol, cfg.fan)
-            heights = cfg.heights if hp.kind is ShotKind.DIRECT else (0.0,)
-            for speed in cfg.speeds:
+            direct = hp.kind is ShotKind.DIRECT
+            heights = (cfg.endgame_heights if endgame else cfg.heights) if direct else (0.0,)
+            sides = cfg.endgame_sides if endgame and direct else (0.0,)
+            for speed in speeds:
                 for height in heights:
-                    meta.append((hp, speed, height, offsets, hp.target))
-                    rows.extend((hp.cue_angle + o, speed, 0.0, height, 0.0) for o in offsets)
+                    for side in sides:
+                        meta.append((hp, speed, side, height, offsets, hp.target))
+                        rows.extend((hp.cue_angle + o, speed, side, height, 0.0) for o in offsets)
         return self._fan_select(meta, np.array(rows).reshape(-1, 5), layout, state, sigma)
 
     def _fan_select(self, meta, rows, layout, state, sigma) -> list[_Stroke]:
@@ -247,7 +276,7 @@ class SearchPlanner:
         first, pocket, final = self._run(layout, rows)
         ok = self._success(first, pocket, layout, state)
         out: list[_Stroke] = []
-        for k, (hp, speed, height, offsets, target) in enumerate(meta):
+        for k, (hp, speed, side, height, offsets, target) in enumerate(meta):
             seg = ok[k * len(offsets) : (k + 1) * len(offsets)]
             start, length = _longest_run(seg)
             if length == 0:
@@ -255,7 +284,7 @@ class SearchPlanner:
             centre = start + (length - 1) // 2
             row = k * len(offsets) + centre
             step = float(offsets[1] - offsets[0]) if len(offsets) > 1 else math.radians(0.1)
-            stroke = _Stroke(Shot(float(rows[row, 0]), speed, 0.0, height), hp, target, margin=length * step)
+            stroke = _Stroke(Shot(float(rows[row, 0]), speed, side, height), hp, target, margin=length * step)
             if hp is None:
                 stroke.pocket = int(pocket[row, target])
             stroke.clean = 1.0 + cfg.lookahead * self._value(layout, state, pocket[row], final[row], sigma)
@@ -380,7 +409,7 @@ class SearchPlanner:
         if not own:
             own = [i for i, b in enumerate(balls) if b.ball_class is BallClass.BLACK]
         cue = next(i for i, b in enumerate(balls) if b.ball_class is BallClass.CUE)
-        return fast_position_value(final_row[keep], cue, own, layout.spec, sigma * self.config.lookahead_sigma)
+        return fast_position_value(final_row[keep], cue, own, layout.spec, sigma)
 
     def _safety(self, layout: TableLayout, state: GameState, targets: list[int]) -> list[Suggestion]:
         """Nothing pots: the first stroke at a legal ball that verifies as foul-free, else the plain fallback."""
