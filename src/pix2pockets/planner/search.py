@@ -72,6 +72,8 @@ class SearchConfig:
         endgame_heights: endgame vertical tip offsets (fraction of the radius).
         endgame_sides: endgame side tip offsets (fraction of the radius; english).
         endgame_scale: endgame multiplier of the verification effort.
+        rescue_below: outside the endgame, when the best stroke's success probability is below this, the
+            best ``endgame_candidates`` hitpoints are also tried with the endgame stroke set.
         time_budget: wall-clock limit per decision [s], ``None`` for none.
         simulator_params: keyword parameters for the simulator backend.
     """
@@ -97,6 +99,7 @@ class SearchConfig:
     endgame_heights: tuple[float, ...] = (0.0, 0.2, 0.4, -0.2, -0.4)
     endgame_sides: tuple[float, ...] = (0.0, 0.3, -0.3)
     endgame_scale: int = 2
+    rescue_below: float = 0.9
     time_budget: float | None = 0.5
     simulator_params: dict = field(default_factory=dict, hash=False, compare=False)
 
@@ -217,8 +220,20 @@ class SearchPlanner:
             strokes = self._sweep(layout, state, sigma)
         if not strokes:
             return self._safety(layout, state, targets)
+        verified, rest = self._verify(strokes, layout, state, z, sigma, cfg.endgame_scale if endgame else 1)
+        if not endgame and verified[0].p < cfg.rescue_below and time.perf_counter() < self._deadline:
+            # a hard shot: the finer endgame stroke set on the best hitpoints may find a safer stroke
+            extra = self._fan([hps[i] for i in order[: cfg.endgame_candidates]], layout, state, sigma, True)
+            if extra:
+                more, rest2 = self._verify(extra, layout, state, z, sigma, 1)
+                verified = sorted(verified + more, key=lambda s: (-s.ev, -s.p))
+                rest += rest2
+        return [self._suggestion(s) for s in verified + rest]
+
+    def _verify(self, strokes, layout, state, z, sigma, scale: int) -> tuple[list[_Stroke], list[_Stroke]]:
+        """Noisy replays of the most promising strokes: (verified ranked by value, the rest)."""
+        cfg = self.config
         strokes.sort(key=lambda s: -s.clean * _angle_p(s.margin, sigma))
-        scale = cfg.endgame_scale if endgame else 1
         n_verified = cfg.max_verified * scale
         verified = strokes[:n_verified]
         for s in verified:
@@ -228,7 +243,7 @@ class SearchPlanner:
         verified.sort(key=lambda s: (-s.ev, -s.p))
         self._replay(verified[: cfg.refine_top * scale], layout, state, z[cfg.samples :], sigma)
         verified.sort(key=lambda s: (-s.ev, -s.p))
-        return [self._suggestion(s) for s in verified + strokes[n_verified:]]
+        return verified, strokes[n_verified:]
 
     # -------------------------------------------------------------- phases
     def _pot_cue(self, layout, state, z, sigma) -> list[Suggestion]:
