@@ -4,7 +4,7 @@
 set -u
 OUT=${1:-benchmarks/results}
 NO=${2:-1000}
-NS=${3:-300}
+NS=${3:-1000}
 NR=${4:-1000}
 export OMP_NUM_THREADS=1 PYTHONPATH=src
 PY=${PY:-/work/venv/bin/python}

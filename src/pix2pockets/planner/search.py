@@ -73,7 +73,8 @@ class SearchConfig:
         endgame_sides: endgame side tip offsets (fraction of the radius; english).
         endgame_scale: endgame multiplier of the verification effort.
         rescue_below: outside the endgame, when the best stroke's success probability is below this, the
-            best ``endgame_candidates`` hitpoints are also tried with the endgame stroke set.
+            best ``endgame_candidates`` hitpoints are also tried with the endgame stroke set (with a
+            ``time_budget``, only while at least half of it is left).
         time_budget: wall-clock limit per decision [s], ``None`` for none.
         simulator_params: keyword parameters for the simulator backend.
     """
@@ -221,7 +222,8 @@ class SearchPlanner:
         if not strokes:
             return self._safety(layout, state, targets)
         verified, rest = self._verify(strokes, layout, state, z, sigma, cfg.endgame_scale if endgame else 1)
-        if not endgame and verified[0].p < cfg.rescue_below and time.perf_counter() < self._deadline:
+        half_left = tb is None or self._deadline - time.perf_counter() > 0.5 * tb  # the pass costs about that
+        if not endgame and verified[0].p < cfg.rescue_below and half_left:
             # a hard shot: the finer endgame stroke set on the best hitpoints may find a safer stroke
             extra = self._fan([hps[i] for i in order[: cfg.endgame_candidates]], layout, state, sigma, True)
             if extra:
