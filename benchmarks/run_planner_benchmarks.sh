@@ -16,6 +16,11 @@ ev() { # name args...
 }
 ev "event-none-search" --planner search --balls 16 --layouts $NS --seed 0 --noise none --physics event
 ev "event-fastfiz-search" --planner search --balls 16 --layouts $NS --seed 0 --noise fastfiz --physics event
+ev "event-fastfiz-search-seed1" --planner search --balls 16 --layouts $NS --seed 1 --noise fastfiz --physics event
+for p in oracle search; do  # the paper's 1-ball: pot the lone cue ball
+  ev "event-none-$p-1ball" --planner $p --balls 1 --layouts $NO --seed 0 --noise none --physics event
+  ev "event-fastfiz-$p-1ball" --planner $p --balls 1 --layouts $NO --seed 0 --noise fastfiz --physics event
+done
 for p in oracle oracle-mirror; do
   ev "event-none-$p" --planner $p --balls 16 --layouts $NO --seed 0 --noise none --physics event
   ev "event-fastfiz-$p" --planner $p --balls 16 --layouts $NO --seed 0 --noise fastfiz --physics event
