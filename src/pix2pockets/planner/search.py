@@ -12,7 +12,11 @@
    ``success x (1 + lookahead x V)``, ``V`` the best next-shot pot probability from where the balls stop
    (one shot of look-ahead). The mean score ranks the suggestions; the success fraction of the noisy
    replays is their success probability.
-4. **Fallback**: with no pot, shots at the legal balls over a range of cut offsets are tried; failing
+4. **Endgame and rescue**: with at most ``endgame`` legal balls left, the best ``endgame_candidates``
+   hitpoints are also expanded over a finer stroke set (more speeds and tip heights, side spin) and twice
+   as many strokes are verified: cue-ball control decides the run-out there. Elsewhere, when the best
+   verified stroke succeeds less often than ``rescue_below``, the same finer set is tried and merged.
+5. **Fallback**: with no pot, shots at the legal balls over a range of cut offsets are tried; failing
    that, a legal safety (own ball first, no foul) or a plain shot at the nearest legal ball.
 
 The paper's 1-ball task (only the cue ball on the table) pots the cue ball: the aim fan and the noisy
