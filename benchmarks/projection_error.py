@@ -8,13 +8,16 @@ paper, which found 0.4 cm).
 
 With ``--rendered N`` the views are instead N multi-view sets from the synthetic renderer
 (:func:`pix2pockets.synth.renderer.render_views`: top, high ~45 degrees, front; random table size, scene and
-camera per set), and the detections are the renders' exact labels (visible ball boxes, diamond boxes). The
-rail-cap height of the renders varies (3-12 mm above the cushion nose); the fit assumes
-:func:`~pix2pockets.vision.table_fit.diamond_height` unless ``--known-height`` passes the true one.
+camera per set), and the detections are the renders' exact labels (visible ball boxes, diamond boxes;
+with ``--onnx`` the bundled detector's instead). The rail-cap height of the renders varies (3-12 mm
+above the cushion nose); ``--height`` says where the fit takes it from: ``assumed``
+(:func:`~pix2pockets.vision.table_fit.diamond_height`), ``image`` (measured from the cushion noses in
+the render, :mod:`pix2pockets.vision.rail_height`, as the pipeline does) or ``known`` (the render's true
+height).
 
 Usage:
     PYTHONPATH=src python benchmarks/projection_error.py --json OUT.json [--sets 25] [--noise 0.5]
-    PYTHONPATH=src python benchmarks/projection_error.py --rendered 8 --json OUT.json [--known-height]
+    PYTHONPATH=src python benchmarks/projection_error.py --rendered 8 --json OUT.json [--height image] [--onnx]
 """
 
 from __future__ import annotations
@@ -68,7 +71,7 @@ def run(sets: int, noise: float, seed: int) -> dict:
                 continue
             per_view[name] = {}
             for m in METHODS:
-                loc = locate_balls(fit.camera, det, spec, m)
+                loc = locate_balls(fit.camera, det, spec, m, diamond_z=fit.diamond_z)
                 per_view[name][m.value] = loc.positions
                 truth_err[m.value][name].extend(matched_errors(loc.positions, layout.positions, spec))
         for m in METHODS:
@@ -80,13 +83,22 @@ def run(sets: int, noise: float, seed: int) -> dict:
     return summarise(truth_err, v2v, {"sets": sets, "noise_px": noise, "seed": seed, "fit_failures": failures})
 
 
-def run_rendered(sets: int, seed: int, known_height: bool, size: tuple[int, int]) -> dict:
+def run_rendered(sets: int, seed: int, height: str, size: tuple[int, int], onnx: bool = False) -> dict:
     from pix2pockets.synth.renderer import render_views
+    from pix2pockets.vision.rail_height import refine_fit_height
+
+    detector = None
+    if onnx:
+        from pix2pockets.pipeline.photo import clean_detections, default_detector
+
+        detector = default_detector()
 
     views = ("top", "high", "front")
     truth_err: dict[str, dict[str, list[float]]] = {m.value: {v: [] for v in views} for m in METHODS}
     v2v: dict[str, dict[str, list[float]]] = {m.value: {v: [] for v in views[1:]} for m in METHODS}
     failures: list[str] = []
+    rise_err: dict[str, list[float]] = {v: [] for v in views}
+    measured = 0
     for k in range(sets):
         renders = render_views((seed, k), size=size, views=views)
         per_view: dict[str, dict[str, np.ndarray]] = {}
@@ -94,17 +106,24 @@ def run_rendered(sets: int, seed: int, known_height: bool, size: tuple[int, int]
             lab = rend.labels
             spec = table_preset(lab["table"]["name"])
             scale = TableSpec().length / spec.length  # errors scaled to a 9-ft table, as in the paper
-            det = detections_from_synth_labels(lab)
+            if detector is None:
+                det = detections_from_synth_labels(lab)
+            else:
+                det = clean_detections(detector.detect(rend.image))
             truth = np.array([b["centre_table_m"][:2] for b in lab["balls"] if b["labelled"]])
-            z = lab["heights_m"]["diamonds"] if known_height else None
+            z_true = lab["heights_m"]["diamonds"]
             try:
-                fit = fit_table(det, tuple(lab["image_size"]), spec, diamond_z=z)
+                fit = fit_table(det, tuple(lab["image_size"]), spec, diamond_z=z_true if height == "known" else None)
             except TableFitError as err:
                 failures.append(f"set {k} {lab['view']}: {err}")
                 continue
+            if height == "image":
+                fit, est = refine_fit_height(rend.image, fit, det[det.is_ball].boxes)
+                measured += est.measured
+            rise_err[lab["view"]].append(abs(fit.diamond_z - z_true) * scale)
             per_view[lab["view"]] = {}
             for m in METHODS:
-                loc = locate_balls(fit.camera, det, spec, m)
+                loc = locate_balls(fit.camera, det, spec, m, diamond_z=fit.diamond_z)
                 per_view[lab["view"]][m.value] = loc.positions * scale
                 if len(loc.positions) and len(truth):
                     errs = matched_errors(loc.positions, truth, spec) * scale
@@ -124,7 +143,10 @@ def run_rendered(sets: int, seed: int, known_height: bool, size: tuple[int, int]
             "sets": sets,
             "seed": seed,
             "rendered": True,
-            "known_height": known_height,
+            "height": height,
+            "detections": "onnx" if onnx else "labels",
+            "height_measured": measured,
+            "height_error_mm": {v: float(np.mean(e) * 1000) if e else None for v, e in rise_err.items()},
             "size": list(size),
             "fit_failures": len(failures),
             "failures": failures,
@@ -154,16 +176,30 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--noise", type=float, default=0.5, help="pixel noise (std) on box edges and dots")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--rendered", type=int, default=0, help="use N rendered multi-view sets instead")
-    parser.add_argument("--known-height", action="store_true", help="rendered: give the fit the true diamond height")
+    parser.add_argument(
+        "--height",
+        choices=("assumed", "image", "known"),
+        default="assumed",
+        help="rendered: diamond-plane height assumed, measured from the image, or the render's true one",
+    )
+    parser.add_argument("--known-height", action="store_true", help="rendered: same as --height known")
+    parser.add_argument(
+        "--onnx", action="store_true", help="rendered: detections from the bundled ONNX detector, not the labels"
+    )
     parser.add_argument("--size", default="1280x720", help="rendered: image size WxH")
     parser.add_argument("--json", help="write results to this JSON file")
     args = parser.parse_args(argv)
     if args.rendered:
         size = tuple(int(v) for v in args.size.lower().split("x"))
-        res = run_rendered(args.rendered, args.seed, args.known_height, size)
+        height = "known" if args.known_height else args.height
+        res = run_rendered(args.rendered, args.seed, height, size, args.onnx)
         print(
-            f"projection error, {res['sets']} rendered sets x 3 views (exact labels, "
-            f"{'known' if args.known_height else 'assumed'} diamond height), scaled to a 9-ft table [cm]"
+            f"projection error, {res['sets']} rendered sets x 3 views ({res['detections']}, "
+            f"{height} diamond height), scaled to a 9-ft table [cm]"
+        )
+        print(
+            f"diamond height error [mm, 9-ft scale]: {res['height_error_mm']}; "
+            f"measured from the image in {res['height_measured']} views"
         )
     else:
         res = run(args.sets, args.noise, args.seed)

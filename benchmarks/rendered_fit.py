@@ -3,8 +3,8 @@
 Each render (:func:`pix2pockets.synth.renderer.render`, random camera kind, occluders, crops, overlays)
 gives its labelled diamonds and visible ball boxes to :func:`fit_table` and :func:`locate_balls`.
 Reported per camera kind: fits, clear failures (``TableFitError``, with reasons), mean corner error [px]
-(corners up to half an image outside the frame) and mean ball error [cm] (scaled to a 9-ft table;
-assumed diamond height).
+(corners up to half an image outside the frame) and mean ball error [cm] (scaled to a 9-ft table), with the
+diamond height assumed and measured from the render (:mod:`pix2pockets.vision.rail_height`).
 
 Usage:
     PYTHONPATH=src python benchmarks/rendered_fit.py --n 30 --json OUT.json [--size 960x540]
@@ -25,7 +25,31 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 from pix2pockets.geometry import TableSpec, table_preset
 from pix2pockets.vision.analytic import detections_from_synth_labels
 from pix2pockets.vision.ball_location import locate_balls
+from pix2pockets.vision.rail_height import refine_fit_height
 from pix2pockets.vision.table_fit import TableFitError, fit_table
+
+
+def _errors(fit, det, lab: dict, spec: TableSpec) -> tuple[float, float | None]:
+    """Corner error [px] (corners within half an image of the frame) and mean ball error [cm, 9-ft scale]."""
+    truth_c = np.array([c["px_cloth"] or [np.nan, np.nan] for c in lab["corners"]], dtype=float)
+    w, h = lab["image_size"]
+    near = (np.abs(truth_c[:, 0] - w / 2) < w) & (np.abs(truth_c[:, 1] - h / 2) < h)  # within 1/2 image outside
+    errs = []
+    for r in (0, 2):
+        diff = np.abs(np.roll(fit.corners_px, r, axis=0) - truth_c)[near]
+        errs.append(float(np.nanmax(diff)) if np.isfinite(diff).any() else np.inf)
+    loc = locate_balls(fit.camera, det, spec, diamond_z=fit.diamond_z)
+    truth = np.array([b["centre_table_m"][:2] for b in lab["balls"] if b["labelled"]]).reshape(-1, 2)
+    if not (len(loc.positions) and len(truth)):
+        return min(errs), None
+    best = np.inf
+    for flip in (False, True):
+        p = loc.positions
+        if flip:
+            p = np.column_stack([spec.length - p[:, 0], spec.width - p[:, 1]])
+        d = np.linalg.norm(p[:, None] - truth[None], axis=-1).min(axis=1).mean()
+        best = min(best, d)
+    return min(errs), float(best * 100 * TableSpec().length / spec.length)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -39,7 +63,16 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     size = tuple(int(v) for v in args.size.lower().split("x"))
     stats: dict[str, dict] = defaultdict(
-        lambda: {"renders": 0, "fits": 0, "failures": [], "corner_px": [], "ball_cm": []}
+        lambda: {
+            "renders": 0,
+            "fits": 0,
+            "failures": [],
+            "corner_px": [],
+            "ball_cm": [],
+            "corner_px_image": [],
+            "ball_cm_image": [],
+            "measured": 0,
+        }
     )
     for k in range(args.n):
         rend = render((args.seed, k), size=size)
@@ -55,40 +88,44 @@ def main(argv: list[str] | None = None) -> int:
             s["failures"].append(f"{(args.seed, k)}: {err} ({int(det.is_dot.sum())} dots)")
             continue
         s["fits"] += 1
-        truth_c = np.array([c["px_cloth"] or [np.nan, np.nan] for c in lab["corners"]], dtype=float)
-        w, h = lab["image_size"]
-        near = (np.abs(truth_c[:, 0] - w / 2) < w) & (np.abs(truth_c[:, 1] - h / 2) < h)  # within 1/2 image outside
-        errs = []
-        for r in (0, 2):
-            diff = np.abs(np.roll(fit.corners_px, r, axis=0) - truth_c)[near]
-            errs.append(float(np.nanmax(diff)) if np.isfinite(diff).any() else np.inf)
-        s["corner_px"].append(min(errs))
-        loc = locate_balls(fit.camera, det, spec)
-        truth = np.array([b["centre_table_m"][:2] for b in lab["balls"] if b["labelled"]]).reshape(-1, 2)
-        if len(loc.positions) and len(truth):
-            best = np.inf
-            for flip in (False, True):
-                p = loc.positions
-                if flip:
-                    p = np.column_stack([spec.length - p[:, 0], spec.width - p[:, 1]])
-                d = np.linalg.norm(p[:, None] - truth[None], axis=-1).min(axis=1).mean()
-                best = min(best, d)
-            s["ball_cm"].append(best * 100 * TableSpec().length / spec.length)
+        assumed = fit
+        fit, est = refine_fit_height(rend.image, assumed, det[det.is_ball].boxes)
+        s["measured"] += est.measured
+        for suffix, f in (("", assumed), ("_image", fit)):
+            corner, ball = _errors(f, det, lab, spec)
+            s["corner_px" + suffix].append(corner)
+            if ball is not None:
+                s["ball_cm" + suffix].append(ball)
         print(f"{k:3d} {kind:10s} ok  corner {s['corner_px'][-1]:6.1f} px", flush=True)
     out = {}
-    print(f"{'camera':<10} {'renders':>7} {'fits':>5} {'corner px (median)':>19} {'ball cm (mean)':>15}")
+
+    def med(x: list) -> float | None:
+        return float(np.median(x)) if x else None
+
+    def mean(x: list) -> float | None:
+        return float(np.mean(x)) if x else None
+
+    print(
+        f"{'camera':<10} {'renders':>7} {'fits':>5} {'measured':>8} {'corner px':>10} {'(measured)':>10} "
+        f"{'ball cm':>8} {'(measured)':>10}"
+    )
     for kind, s in sorted(stats.items()):
         out[kind] = {
             "renders": s["renders"],
             "fits": s["fits"],
-            "corner_px_median": float(np.median(s["corner_px"])) if s["corner_px"] else None,
-            "ball_cm_mean": float(np.mean(s["ball_cm"])) if s["ball_cm"] else None,
+            "height_measured": s["measured"],
+            "corner_px_median": med(s["corner_px"]),
+            "corner_px_median_measured_height": med(s["corner_px_image"]),
+            "ball_cm_mean": mean(s["ball_cm"]),
+            "ball_cm_mean_measured_height": mean(s["ball_cm_image"]),
             "failures": s["failures"],
         }
         o = out[kind]
+        nan = float("nan")
         print(
-            f"{kind:<10} {o['renders']:7d} {o['fits']:5d} {o['corner_px_median'] or float('nan'):19.2f} "
-            f"{o['ball_cm_mean'] or float('nan'):15.3f}"
+            f"{kind:<10} {o['renders']:7d} {o['fits']:5d} {o['height_measured']:8d} "
+            f"{o['corner_px_median'] or nan:10.2f} {o['corner_px_median_measured_height'] or nan:10.2f} "
+            f"{o['ball_cm_mean'] or nan:8.3f} {o['ball_cm_mean_measured_height'] or nan:10.3f}"
         )
         for f in s["failures"]:
             print("    fail", f)

@@ -12,7 +12,7 @@ mkdir -p "$OUT"
 ev() { # name args...
   local name=$1; shift
   echo "=== $name: $*"
-  $PY -m pix2pockets evaluate planner "$@" --no-progress --json "$OUT/$name.json" || echo "FAILED $name"
+  $PY -m pix2pockets evaluate planner "$@" --no-progress --force --json "$OUT/$name.json" || echo "FAILED $name"
 }
 ev "event-none-search" --planner search --balls 16 --layouts $NS --seed 0 --noise none --physics event
 ev "event-fastfiz-search" --planner search --balls 16 --layouts $NS --seed 0 --noise fastfiz --physics event
@@ -32,11 +32,11 @@ for p in oracle oracle-mirror; do
   ev "pymunk-none-$p" --planner $p --balls 16 --layouts $NR --seed 0 --noise none --physics pymunk
 done
 echo "=== aim-precision"
-$PY -m pix2pockets experiment aim-precision --planners oracle oracle-mirror --layouts 400 --json "$OUT/aim-precision-oracle.json"
+$PY -m pix2pockets experiment aim-precision --planners oracle oracle-mirror --layouts 400 --force --json "$OUT/aim-precision-oracle.json"
 echo "=== ball-shift"
-$PY -m pix2pockets experiment ball-shift --planners oracle oracle-mirror search --layouts 400 --json "$OUT/ball-shift.json"
+$PY -m pix2pockets experiment ball-shift --planners oracle oracle-mirror search --layouts 400 --force --json "$OUT/ball-shift.json"
 echo "=== decision time"
 $PY benchmarks/planner_decision_time.py --layouts 50 --json "$OUT/decision-time.json"
 echo "=== aim-precision search"
-$PY -m pix2pockets experiment aim-precision --planners search --layouts 100 --json "$OUT/aim-precision-search.json"
+$PY -m pix2pockets experiment aim-precision --planners search --layouts 100 --force --json "$OUT/aim-precision-search.json"
 echo "=== done"

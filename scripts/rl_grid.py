@@ -185,6 +185,7 @@ def do_evaluate(args: argparse.Namespace) -> None:
             str(args.eval_seed),
             "--json",
             str(out),
+            "--force",  # a stale evaluation is replaced on purpose
         )
 
 
@@ -255,7 +256,7 @@ def do_details(args: argparse.Namespace) -> None:
 
 def do_plot(args: argparse.Namespace) -> None:
     runs = [str(Path(args.root) / r.name) for r in select(args) if (Path(args.root) / r.name / "monitor.csv").exists()]
-    cli("rl", "plot", *runs, "--out", args.out, "--window", str(args.window))
+    cli("rl", "plot", *runs, "--out", args.out, "--window", str(args.window), "--force")
 
 
 def do_speeds(args: argparse.Namespace) -> None:

@@ -30,6 +30,18 @@ def test_evaluate_hough_writes_table_json(toy, tmp_path, capsys):
     assert "AP50:95" in capsys.readouterr().out
 
 
+def test_evaluate_class_aware_post_processing_is_recorded(toy, tmp_path):
+    out = tmp_path / "e.json"
+    args = ["evaluate", "detector", "--data", str(toy), "--detector", "hough", "--post", "class-aware"]
+    assert main([*args, "--json", str(out), "--quiet"]) == 0
+    rep = json.loads(out.read_text())
+    assert rep["post"] == "class-aware"
+    assert rep["after"]["cue"]["n_det"] <= rep["n_images"]  # at most one cue ball per image
+    with pytest.raises(SystemExit):
+        main([*args[:-1], "nonsense", "--json", str(tmp_path / "x.json")])
+    assert not (tmp_path / "x.json").exists()
+
+
 def test_evaluate_missing_split_is_clean_error(toy, tmp_path, capsys):
     args = ["evaluate", "detector", "--data", str(toy), "--split", "nope", "--detector", "hough"]
     rc = main([*args, "--json", str(tmp_path / "x.json")])
@@ -59,3 +71,13 @@ def test_train_detector_tiny_run_writes_onnx_and_resumes(toy, tmp_path):
     image = str(next((toy / "test" / "images").iterdir()))
     rc = main(["detect", image, "--model", str(out / "detector.onnx"), "--json", str(tmp_path / "d.json")])
     assert rc == 0 and "after_postprocess" in json.loads((tmp_path / "d.json").read_text())
+
+
+def test_detect_and_evaluate_refuse_to_overwrite_without_force(toy, tmp_path, capsys):
+    out = tmp_path / "e.json"
+    out.write_text("keep me")
+    args = ["evaluate", "detector", "--data", str(toy), "--detector", "hough", "--json", str(out), "--quiet"]
+    assert main(args) == 2
+    assert "--force" in capsys.readouterr().err and out.read_text() == "keep me"
+    assert main([*args, "--force"]) == 0
+    assert json.loads(out.read_text())["mode"] == "classes"

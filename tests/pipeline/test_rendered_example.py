@@ -80,3 +80,12 @@ def test_suggested_shot_pots_its_ball_in_the_true_layout():
     result = make_simulator("event").simulate(layout, stroke)
     assert target in result.pocketed
     assert layout.cue_index not in result.pocketed
+
+
+def test_suggestion_reports_the_rail_height():
+    s = suggest(example_photo_path(), detector=LabelsDetector())
+    doc = s.to_dict()["table"]
+    assert isinstance(doc["diamond_height_measured"], bool)
+    assert abs(doc["diamond_height_m"] - LABELS["heights_m"]["diamonds"]) < 0.008
+    assumed = suggest(example_photo_path(), detector=LabelsDetector(), measure_rail_height=False)
+    assert not assumed.to_dict()["table"]["diamond_height_measured"]

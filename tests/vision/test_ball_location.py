@@ -98,3 +98,19 @@ def test_box_cut_by_the_image_border_keeps_its_inner_edge():
 
     xy = locate_sphere(cam, cut[None], R)[0]
     assert abs(xy[0] - x) < 0.002 and abs(xy[1] - 0.6) < 0.002
+
+
+def test_linear_baseline_follows_the_fitted_diamond_height():
+    """After the camera is refitted for a measured rail height, the paper's heuristic must map through
+    that plane; through the spec's default plane it lands somewhere else."""
+    rng = np.random.default_rng(5)
+    layout = random_layout(rng, list(range(8)), SPEC)
+    cam = VIEWS["45"]
+    det = analytic_detections(cam, layout)
+    fit = fit_table(det, cam.image_size, SPEC)
+    moved = fit.with_diamond_z(fit.diamond_z + 0.01)
+    same = locate_balls(fit.camera, det, SPEC, LocateMethod.LINEAR).positions
+    follows = locate_balls(moved.camera, det, SPEC, LocateMethod.LINEAR, diamond_z=moved.diamond_z).positions
+    stale = locate_balls(moved.camera, det, SPEC, LocateMethod.LINEAR).positions
+    np.testing.assert_allclose(follows, same, atol=1e-6)
+    assert np.abs(stale - same).max() > 1e-3

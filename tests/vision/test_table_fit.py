@@ -120,3 +120,40 @@ def test_close_phone_view_with_a_corner_behind_the_camera():
     both = np.all(np.isfinite(truth), axis=1) & np.all(np.isfinite(corners), axis=1)
     assert both.any()
     assert np.abs(corners[both] - truth[both]).max() < 5.0
+
+
+# 9 of the 18 diamonds (1 px noise) plus 3 false positives on the cloth: once accepted as a wrong table
+# (corners 400 px off, reprojection 7 px on 6 dots); now a correct fit or a clear error
+SCATTERED_WITH_FALSE_POSITIVES = {
+    "top": [[1201.6, 490.7], [1201.8, 227.7], [1032.6, 59.8], [902.1, 62.6], [510.1, 59.1], [379.6, 59.9],
+            [247.9, 58.7], [76.8, 230.0], [79.4, 490.4], [644.7, 370.7], [776.8, 303.0], [251.1, 445.0]],
+    "45": [[626.2, 662.5], [696.3, 581.1], [859.9, 394.9], [902.6, 346.8], [941.3, 300.7], [298.2, 407.6],
+           [361.1, 232.8], [409.5, 318.6], [611.8, 486.6]],
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("view", sorted(SCATTERED_WITH_FALSE_POSITIVES))
+def test_no_wrong_fit_from_scattered_dots_and_false_positives(view):
+    cam = standard_views(SPEC)[view]
+    pts = np.array(SCATTERED_WITH_FALSE_POSITIVES[view])
+    try:
+        fit = fit_table(pts, cam.image_size, SPEC)
+    except TableFitError as err:
+        assert "no table found" in str(err) or "too few" in str(err)
+        return
+    assert np.abs(fit.corners_px - cam.project_table(SPEC.corners, 0.0)).max() < 10
+
+
+def test_reprojection_check_rejects_a_camera_that_misses_the_dots():
+    from pix2pockets.vision.table_fit import check_reprojection, dot_scatter
+
+    cam = standard_views(SPEC)["front"]
+    h = diamond_height(SPEC)
+    pts = dots_of(cam, noise=0.5)
+    index = np.arange(18)
+    sigma, dof = dot_scatter(pts, index)
+    assert 0.2 < sigma < 1.0 and dof == 10
+    check_reprojection(cam, pts, index, h, SPEC)  # the true camera passes
+    moved = PinholeCamera(cam.K, cam.R, cam.t + np.array([0.02, 0.0, 0.0]), cam.image_size)
+    with pytest.raises(TableFitError, match="do not fit one camera"):
+        check_reprojection(moved, pts, index, h, SPEC)

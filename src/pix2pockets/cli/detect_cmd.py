@@ -6,7 +6,7 @@ import argparse
 import json
 from pathlib import Path
 
-from pix2pockets.cli.output import write_atomic
+from pix2pockets.cli.output import check_output, write_atomic
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -18,7 +18,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--nms-iou", type=float, default=0.5, help="IoU of class-agnostic NMS (default 0.5)")
     parser.add_argument("--input-size", type=int, default=640, help="network input long side px (default 640)")
     parser.add_argument("--threads", type=int, default=1, help="onnxruntime threads (default 1)")
-    parser.add_argument("--draw", default=None, help="also write the post-processed detections drawn on the image")
+    parser.add_argument(
+        "--draw", default=None, help="also write the post-processed detections drawn on the image (.png or .jpg)"
+    )
+    parser.add_argument("--force", action="store_true", help="overwrite existing output files")
     parser.set_defaults(func=run)
 
 
@@ -27,6 +30,8 @@ def run(args: argparse.Namespace) -> int:
     from pix2pockets.vision.onnx_detector import OnnxDetector, OnnxDetectorConfig, default_model_path
     from pix2pockets.vision.postprocess import postprocess
 
+    check_output(args.json_out, args.force)
+    check_output(args.draw, args.force, (".png", ".jpg", ".jpeg"))
     image = read_image_rgb(args.image)
     model = Path(args.model) if args.model else default_model_path()
     detector = OnnxDetector(model, OnnxDetectorConfig(args.input_size, args.conf, threads=args.threads))
@@ -40,15 +45,15 @@ def run(args: argparse.Namespace) -> int:
         "before_postprocess": raw.to_list(),
         "after_postprocess": post.to_list(),
     }
-    write_atomic(args.json_out, json.dumps(report, indent=1))
+    picture = None
     if args.draw:
-        import cv2
-
+        from pix2pockets.pipeline.draw import encode_picture
         from pix2pockets.vision.draw import draw_detections
 
-        drawn = draw_detections(image, post, args.conf)
-        if not cv2.imwrite(args.draw, cv2.cvtColor(drawn, cv2.COLOR_RGB2BGR)):
-            raise ValueError(f"cannot write image {args.draw}")
+        picture = encode_picture(draw_detections(image, post, args.conf), Path(args.draw).suffix)
+    write_atomic(args.json_out, json.dumps(report, indent=1))
+    if picture is not None:
+        write_atomic(args.draw, picture)
     counts = {}
     for name in post.class_names:
         counts[name] = counts.get(name, 0) + 1

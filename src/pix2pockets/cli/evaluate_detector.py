@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pix2pockets.cli.output import write_json
+from pix2pockets.cli.output import check_output, write_json
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -27,6 +27,14 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--input-size", type=int, default=640, help="network input long side px (default 640)")
     parser.add_argument("--threads", type=int, default=1, help="onnxruntime threads (default 1)")
     parser.add_argument("--limit", type=int, default=None, help="only the first N images")
+    parser.add_argument(
+        "--post",
+        choices=["paper", "class-aware"],
+        default="paper",
+        help="post-processing of the 'after' column: the paper's NMS + caps (default) or the pipeline's "
+        "class-aware one",
+    )
+    parser.add_argument("--force", action="store_true", help="overwrite an existing --json file")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
@@ -34,6 +42,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     from pix2pockets.vision.evaluation import EvalOptions, evaluate_detector, format_table
 
+    check_output(args.json_out, args.force)
     try:
         ball_classes = tuple(int(v) for v in args.ball_classes.split(",") if v.strip())
     except ValueError as err:
@@ -52,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
 
         model = str(Path(args.model) if args.model else default_model_path())
         detector = OnnxDetector(model, OnnxDetectorConfig(args.input_size, 0.01, threads=args.threads))
-    opts = EvalOptions(args.split, args.agnostic, ball_classes, args.conf, limit=args.limit)
+    opts = EvalOptions(args.split, args.agnostic, ball_classes, args.conf, limit=args.limit, post=args.post)
     report = evaluate_detector(detector, args.data, opts, progress=not args.quiet)
     report.update({"data": str(args.data), "model": model, "conf_threshold": args.conf})
     write_json(args.json_out, report, indent=1)

@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pix2pockets.cli.output import write_json
+from pix2pockets.cli.output import check_output, write_json
 from pix2pockets.planner.evaluation import BALL_SETS, evaluate_planner
 from pix2pockets.planner.noise import noise_model
 from pix2pockets.planner.registry import PLANNER_NAMES, make_planner
@@ -51,6 +51,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("--oracle-speed", type=float, default=None, help="the Oracle's max-power speed [m/s]")
     parser.add_argument("--json", metavar="OUT.json", help="write the results as JSON")
+    parser.add_argument("--force", action="store_true", help="overwrite an existing --json file")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
@@ -70,9 +71,8 @@ def run(args: argparse.Namespace) -> int:
     if planning == "auto":
         planning = "fastfiz" if noise.is_zero else args.noise
     noise_model(planning)
+    check_output(args.json, args.force)
     out = Path(args.json) if args.json else None
-    if out is not None and not out.parent.exists():
-        raise ValueError(f"cannot write {out}: folder {out.parent} does not exist")
     sim = make_simulator(args.physics)
     planner = make_planner(
         args.planner, physics=args.physics, noise=planning, time_budget=args.time_budget,

@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pix2pockets.cli.output import write_json
+from pix2pockets.cli.output import check_output, write_json
 from pix2pockets.planner.experiments import (
     PAPER_SHIFT1,
     PAPER_SHIFT2,
@@ -56,15 +56,14 @@ def _common(p: argparse.ArgumentParser) -> None:
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--physics", default="event", help="simulator backend (event)")
     p.add_argument("--json", metavar="OUT.json", help="write the table as JSON")
+    p.add_argument("--force", action="store_true", help="overwrite an existing --json file")
 
 
 def _check(args: argparse.Namespace) -> Path | None:
     if args.layouts < 1:
         raise ValueError(f"--layouts must be >= 1, got {args.layouts}")
-    out = Path(args.json) if args.json else None
-    if out is not None and not out.parent.exists():
-        raise ValueError(f"cannot write {out}: folder {out.parent} does not exist")
-    return out
+    check_output(args.json, args.force)
+    return Path(args.json) if args.json else None
 
 
 def _write(out: Path | None, data: dict) -> None:

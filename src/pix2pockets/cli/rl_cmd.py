@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import argparse
-import json
-from pathlib import Path
+
+from pix2pockets.cli.output import check_output, write_json
 
 ALGO_NAMES = ("ppo", "td3", "a2c", "ddpg", "sac", "maskable-ppo")
 ENV_HELP = "one, two, all (the paper's 1-ball, 2-ball, all-ball) or a registered Gymnasium id"
@@ -37,18 +37,21 @@ def register(sub: argparse._SubParsersAction) -> None:
     ev.add_argument("--episodes", type=int, default=1000)
     ev.add_argument("--seed", type=int, default=12345, help="seed of the evaluation layouts (not a training seed)")
     ev.add_argument("--json", metavar="OUT.json", help="write the numbers as JSON")
+    ev.add_argument("--force", action="store_true", help="overwrite an existing output file")
     ev.set_defaults(func=run_evaluate)
 
     ex = rl_sub.add_parser("export", help="slim copy of an agent (float16 weights, no optimizer state) to ship")
     ex.add_argument("--model", required=True, help="agent file from `rl train`")
     ex.add_argument("--out", required=True, help="output .zip")
     ex.add_argument("--full-precision", action="store_true", help="keep float32 weights")
+    ex.add_argument("--force", action="store_true", help="overwrite an existing output file")
     ex.set_defaults(func=run_export)
 
     pl = rl_sub.add_parser("plot", help="learning curves (per-shot success) of run directories as a PNG")
     pl.add_argument("runs", nargs="+", help="run directories (each with monitor.csv and config.json)")
     pl.add_argument("--out", required=True, help="PNG path")
     pl.add_argument("--window", type=int, default=2000, help="moving-average window [shots]")
+    pl.add_argument("--force", action="store_true", help="overwrite an existing output file")
     pl.set_defaults(func=run_plot)
 
 
@@ -89,6 +92,7 @@ def run_evaluate(args: argparse.Namespace) -> int:
 
     if args.episodes <= 0:
         raise ValueError(f"--episodes must be > 0, got {args.episodes}")
+    check_output(args.json, args.force)
     if args.policy == "random":
         if not args.env:
             raise ValueError("--policy random needs --env")
@@ -103,13 +107,15 @@ def run_evaluate(args: argparse.Namespace) -> int:
         result = evaluate_model(args.model, args.episodes, args.seed)
     print(result.summary())
     if args.json:
-        Path(args.json).write_text(json.dumps(result.to_dict(), indent=2) + "\n")
+        write_json(args.json, result.to_dict())
     return 0
 
 
 def run_export(args: argparse.Namespace) -> int:
     _require_rl()
     from pix2pockets.rl.export import slim_agent
+
+    check_output(args.out, args.force, (".zip",))
 
     path = slim_agent(args.model, args.out, half=not args.full_precision)
     print(f"wrote {path} ({path.stat().st_size / 1e6:.2f} MB)")
@@ -118,6 +124,8 @@ def run_export(args: argparse.Namespace) -> int:
 
 def run_plot(args: argparse.Namespace) -> int:
     from pix2pockets.rl.curves import plot_learning_curves
+
+    check_output(args.out, args.force, (".png", ".pdf", ".svg"))
 
     plot_learning_curves(args.runs, args.out, window=args.window)
     print(f"wrote {args.out}")

@@ -25,6 +25,7 @@ from pix2pockets.vision.classes import CLASS_NAMES
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.postprocess import resolve_ball_classes
+from pix2pockets.vision.rail_height import refine_fit_height
 from pix2pockets.vision.table_fit import fit_table
 
 MIN_IMAGE_SIDE = 64  # [px]
@@ -82,6 +83,7 @@ def suggest(
     spec: TableSpec | None = None,
     locate_method: LocateMethod | str = LocateMethod.SPHERE,
     rng: np.random.Generator | None = None,
+    measure_rail_height: bool = True,
 ) -> Suggestion:
     """The best shot for a photo of a pool table.
 
@@ -93,6 +95,8 @@ def suggest(
         spec: the table (default 9-foot).
         locate_method: ball location method (``sphere``, ``contact`` or ``linear``).
         rng: randomness for the planner (a fixed seed when ``None``).
+        measure_rail_height: measure the diamond-plane height above the cloth from the cushion noses
+            (:mod:`pix2pockets.vision.rail_height`); otherwise the typical height is assumed.
 
     Raises:
         ValueError: unreadable image, no table found, too few table points, no cue ball, no balls of the
@@ -116,7 +120,14 @@ def suggest(
     timings["fit"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    located = locate_balls(fit.camera, det, spec, locate_method)
+    measured = False
+    if measure_rail_height:  # the cloth lies an unknown height below the diamonds: measure it
+        fit, est = refine_fit_height(rgb, fit, det[det.is_ball].boxes)
+        measured = est.measured
+    timings["rail_height"] = time.perf_counter() - t
+
+    t = time.perf_counter()
+    located = locate_balls(fit.camera, det, spec, locate_method, diamond_z=fit.diamond_z)
     layout = located.to_layout(spec)
     if layout.cue_index is None:
         raise ValueError("no cue ball found on the table")
@@ -146,4 +157,6 @@ def suggest(
         )
     )
     timings["total"] = time.perf_counter() - t0
-    return Suggestion((w, h), fit.corners_px, fit.homography, balls, advice, layout, fit.camera, timings)
+    return Suggestion(
+        (w, h), fit.corners_px, fit.homography, balls, advice, layout, fit.camera, timings, fit.diamond_z, measured
+    )

@@ -141,6 +141,8 @@ class Suggestion:
         layout: the located layout (balls in ``balls`` order).
         camera: the recovered camera (for drawing in perspective).
         timings: seconds per stage.
+        diamond_height_m: height of the diamond plane (rail cap) above the cloth used [m].
+        diamond_height_measured: whether that height was measured from the photo (else assumed).
     """
 
     image_size: tuple[int, int]
@@ -151,6 +153,8 @@ class Suggestion:
     layout: TableLayout
     camera: object
     timings: dict = field(default_factory=dict)
+    diamond_height_m: float | None = None
+    diamond_height_measured: bool = False
 
     @property
     def spec(self) -> TableSpec:
@@ -171,6 +175,8 @@ class Suggestion:
                     [round(float(v), 2) for v in c] if np.all(np.isfinite(c)) else None for c in self.corners_px
                 ],
                 "homography": [[float(v) for v in row] for row in self.homography],
+                "diamond_height_m": None if self.diamond_height_m is None else round(float(self.diamond_height_m), 5),
+                "diamond_height_measured": bool(self.diamond_height_measured),
             },
             "balls": [b.to_dict() for b in self.balls],
             "suggestion": self.shot.to_dict(),

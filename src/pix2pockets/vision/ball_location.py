@@ -97,15 +97,19 @@ def locate_contact(camera: PinholeCamera, contact_px: np.ndarray) -> np.ndarray:
     return apply_homography(np.linalg.inv(camera.table_homography(0.0)), np.asarray(contact_px, dtype=float))
 
 
-def locate_linear(camera: PinholeCamera, boxes: np.ndarray, spec: TableSpec) -> np.ndarray:
+def locate_linear(
+    camera: PinholeCamera, boxes: np.ndarray, spec: TableSpec, diamond_z: float | None = None
+) -> np.ndarray:
     """The paper's heuristic: a point between box centre and box top, by camera tilt, through the
-    rail-cap (diamond) homography. Returns table points [m] (n, 2)."""
+    rail-cap (diamond) homography. ``diamond_z`` is that plane's height above the cloth [m] (default: the
+    table spec's; pass the measured one, :attr:`TableFit.diamond_z`). Returns table points [m] (n, 2)."""
+    z = diamond_height(spec) if diamond_z is None else float(diamond_z)
     boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
     frac = camera_tilt(camera) / (np.pi / 2)
     centre = _box_centres(boxes)
     top = np.column_stack([centre[:, 0], boxes[:, 1]])
     point = centre + frac * (top - centre)
-    return apply_homography(np.linalg.inv(camera.table_homography(diamond_height(spec))), point)
+    return apply_homography(np.linalg.inv(camera.table_homography(z)), point)
 
 
 @dataclass(frozen=True, slots=True, eq=False)
@@ -143,6 +147,7 @@ def locate_balls(
     spec: TableSpec | None = None,
     method: LocateMethod | str = LocateMethod.SPHERE,
     off_table_margin: float = 0.03,
+    diamond_z: float | None = None,
 ) -> LocatedBalls:
     """Map each ball detection to its table centre; drop balls off the table or in pockets.
 
@@ -153,13 +158,15 @@ def locate_balls(
         method: ``sphere``, ``contact`` or ``linear``.
         off_table_margin: balls further than this outside the legal centre region [m] are dropped (the
             rest are clamped onto it).
+        diamond_z: height of the diamond plane the camera was fitted to [m] (``linear`` only; default the
+            spec's).
     """
     spec = spec or TableSpec()
     method = LocateMethod(method)
     det = detections[detections.is_ball]
     R = spec.ball_radius
     if method is LocateMethod.LINEAR:
-        xy = locate_linear(camera, det.boxes, spec)
+        xy = locate_linear(camera, det.boxes, spec, diamond_z)
     else:
         xy = locate_sphere(camera, det.boxes, R)
         if method is LocateMethod.CONTACT:

@@ -13,11 +13,15 @@ from pix2pockets.vision.classes import BALL_IDS, CLASS_NAMES
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.metrics import GroundTruth, evaluate_class, evaluate_classes, mean_metrics
-from pix2pockets.vision.postprocess import DEFAULT_NMS_IOU, class_agnostic_nms, postprocess
+from pix2pockets.vision.postprocess import DEFAULT_NMS_IOU, class_agnostic_nms, postprocess, resolve_ball_classes
 from pix2pockets.vision.yolo_data import dataset_class_map, load_split
 
 TABLE_ORDER = (3, 2, 0, 1, 4)  # the paper's column order: stripes, solids, cue, black, dots
 TABLE_TITLES = {0: "Cue", 1: "Black", 2: "Solids", 3: "Stripes", 4: "Dots"}
+POSTPROCESSORS: dict[str, Callable[[Detections, float], Detections]] = {
+    "paper": postprocess,  # section 6.1: class-agnostic NMS, then the class caps
+    "class-aware": resolve_ball_classes,  # the product pipeline's: one class per ball, cue and 8 once each
+}
 METRIC_ROWS = (("Precision", "precision"), ("Recall", "recall"), ("F1", "f1"), ("AP50", "ap50"), ("AP50:95", "ap50_95"))
 
 
@@ -32,6 +36,7 @@ class EvalOptions:
         conf_threshold: confidence above which detections count for precision / recall / F1.
         nms_iou: IoU of the post-processing NMS.
         limit: evaluate only the first ``limit`` images.
+        post: the post-processing for the "after" column, a key of :data:`POSTPROCESSORS`.
     """
 
     split: str = "test"
@@ -40,6 +45,11 @@ class EvalOptions:
     conf_threshold: float = 0.25
     nms_iou: float = DEFAULT_NMS_IOU
     limit: int | None = None
+    post: str = "paper"
+
+    def __post_init__(self) -> None:
+        if self.post not in POSTPROCESSORS:
+            raise ValueError(f"unknown post-processing {self.post!r}; choose from {sorted(POSTPROCESSORS)}")
 
 
 def evaluate_detector(detector: Detector, root: str, options: EvalOptions | None = None, progress: bool = True) -> dict:
@@ -66,8 +76,9 @@ def evaluate_detector(detector: Detector, root: str, options: EvalOptions | None
         raws.append(detector.detect(image))
         if use_head:
             heads.append(detector.detect_balls(image))  # type: ignore[attr-defined]
-    afters = [postprocess(d, opt.nms_iou) for d in raws]
+    afters = [POSTPROCESSORS[opt.post](d, opt.nms_iou) for d in raws]
     report: dict = {"mode": "agnostic" if opt.agnostic else "classes", "n_images": len(items), "split": opt.split}
+    report["post"] = opt.post
     if opt.agnostic:
         report["before"] = _agnostic(raws, gts, opt.conf_threshold)
         report["after"] = _agnostic(afters, gts, opt.conf_threshold)

@@ -45,6 +45,11 @@ RAIL_DIAMONDS: tuple[tuple[int, ...], ...] = ((0, 1, 2, 3, 4, 5), (6, 7, 8), (9,
 MIN_DOTS = 4
 MAX_DOTS = 40  # more candidates than this are cut by confidence (false positives)
 MAX_HYPOTHESES = 2000  # rail-assignment hypotheses tried before giving up on better ones
+MIN_SCATTER_DOF = 3  # rail-line residual degrees of freedom needed to judge the reprojection error
+REPROJECTION_FACTOR = 4.0  # reprojection rms may be this many times the dots' 2-D scatter ...
+REPROJECTION_FLOOR_PX = 2.5  # ... or this many pixels [px]
+REPROJECTION_MAX_PX = 4.0  # dots' reprojection rms never above this [px] ...
+REPROJECTION_MAX_DIAG = 0.003  # ... or this fraction of the image diagonal, whichever is larger
 
 
 DIAMOND_RISE = 0.0075
@@ -74,6 +79,7 @@ class TableFit:
             NaN for corners whose two rails lacked the dots to intersect.
         rms_px: root-mean-square reprojection error of the matched points [px].
         n_matched: number of matched dots.
+        diamond_z: height of the diamond plane above the cloth used for ``camera`` [m].
     """
 
     spec: TableSpec
@@ -82,6 +88,20 @@ class TableFit:
     diamond_corners_px: np.ndarray
     rms_px: float
     n_matched: int
+    diamond_z: float
+
+    def with_diamond_z(self, z: float) -> TableFit:
+        """The same fit for diamonds at height ``z`` [m] above the cloth.
+
+        The dots fix the camera relative to the diamond plane; another plane height only moves the cloth
+        (and the camera's height above it): ``t' = t - R e_z (z - z_old)``.
+        """
+        cam = self.camera
+        t = cam.t - cam.R[:, 2] * (float(z) - self.diamond_z)
+        camera = PinholeCamera(cam.K, cam.R, t, cam.image_size)
+        return TableFit(
+            self.spec, camera, self.dot_index, self.diamond_corners_px, self.rms_px, self.n_matched, float(z)
+        )
 
     @property
     def homography(self) -> np.ndarray:
@@ -233,6 +253,16 @@ def _line_candidates(points: np.ndarray, line: np.ndarray, spec: TableSpec) -> l
     return out
 
 
+def _without_stray_dot(points: np.ndarray, line: np.ndarray, spec: TableSpec) -> list[np.ndarray]:
+    """The line itself, or when its dots fit no run of diamonds (a false dot on the rail: a pocket jaw, a
+    cushion edge, a mark on the cap) the variants without one dot that do. Lines of 4+ dots only."""
+    if len(line) < 4 or _line_candidates(points, line, spec):
+        return [line]
+    variants = [np.delete(line, i) for i in range(len(line))]
+    good = [v for v in variants if _line_candidates(points, v, spec)]
+    return good or [line]
+
+
 def _hypotheses(points: np.ndarray, line_a: np.ndarray, line_b: np.ndarray, spec: TableSpec):
     """Yield (dot indices, diamond indices) for two lines assigned to two different rails."""
 
@@ -272,11 +302,15 @@ def label_candidates(
     """
     diamonds = spec.diamonds
     tol_m = tol_m if tol_m is not None else 0.25 * spec.length / 8
-    usable = [ln for ln in lines if len(ln) >= 2]
+    usable, group = [], []
+    for g, ln in enumerate(x for x in lines if len(x) >= 2):
+        for variant in _without_stray_dot(dots, ln, spec):
+            usable.append(variant)
+            group.append(g)
     best: tuple[int, float] | None = None
     found: dict[tuple, tuple[tuple[int, float], np.ndarray]] = {}
     pairs = sorted(
-        itertools.combinations(range(len(usable)), 2),
+        ((a, b) for a, b in itertools.combinations(range(len(usable)), 2) if group[a] != group[b]),
         key=lambda ab: (-min(len(usable[ab[0]]), len(usable[ab[1]])), -len(usable[ab[0]]) - len(usable[ab[1]])),
     )
     strong = sum(len(x) >= 3 for x in usable)
@@ -498,11 +532,17 @@ def fit_table(
     if not np.all(np.isfinite(pts)):
         raise TableFitError("dot positions must be finite")
     if len(pts) < MIN_DOTS:
-        raise TableFitError(f"too few table points: {len(pts)} diamonds detected, need at least {MIN_DOTS}")
+        raise TableFitError(
+            f"too few table points: {len(pts)} diamonds detected, need at least {MIN_DOTS} on two rails "
+            "(show more of the table: two rails with their sights, not hidden by players or the frame edge)"
+        )
     tol = tol_px if tol_px is not None else _tolerance_px(pts, image_size)
     lines = fit_rail_lines(pts, tol)
     if sum(len(x) >= 2 for x in lines) < 2:
-        raise TableFitError("too few table points: diamonds on at least two rails are needed")
+        raise TableFitError(
+            f"too few table points: the {len(pts)} diamonds found lie on one rail; diamonds on at least two "
+            "rails are needed"
+        )
     h = diamond_height(spec) if diamond_z is None else float(diamond_z)
     fits = []
     first_error: TableFitError | None = None
@@ -528,7 +568,7 @@ def fit_table(
 
     dot_index_full = np.full(n_total, -1)
     dot_index_full[back] = index
-    return TableFit(spec, camera, dot_index_full, corners, rms, n_matched)
+    return TableFit(spec, camera, dot_index_full, corners, rms, n_matched, h)
 
 
 def _fit_labelled(
@@ -592,6 +632,7 @@ def _fit_labelled(
         raise TableFitError(
             f"no table found: only {n_matched} of {len(pts)} dots fit the diamond pattern of a {spec.name} table"
         )
+    check_reprojection(camera, pts, index, h, spec)
     if camera.position[2] < spec.cushion_height + 0.2:
         raise TableFitError("no table found: the fitted camera is not above the table")
     validate_corners(camera.project_table(rect, h), image_size)
@@ -599,6 +640,48 @@ def _fit_labelled(
         raise TableFitError(f"no table found: implausible camera (focal length {camera.focal_px:.0f} px)")
 
     return camera, index, corners, rms, n_matched
+
+
+def dot_scatter(pts: np.ndarray, index: np.ndarray) -> tuple[float, int]:
+    """Scatter of the matched dots about their own rail lines [px] (per-coordinate standard deviation),
+    pooled over rails with 3+ matched dots, and its degrees of freedom (0: not measurable).
+
+    A correct labelling puts each rail's dots on one line in the image, so this measures the detector's
+    dot noise independently of the fitted camera.
+    """
+    ss, dof = 0.0, 0
+    for ids in RAIL_DIAMONDS:
+        m = np.isin(index, ids)
+        if m.sum() >= 3:
+            line = _tls_line(pts[m])
+            ss += float(np.sum((pts[m] @ line[:2] + line[2]) ** 2))
+            dof += int(m.sum()) - 2
+    return (math.sqrt(ss / dof) if dof else 0.0), dof
+
+
+def check_reprojection(camera: PinholeCamera, pts: np.ndarray, index: np.ndarray, h: float, spec: TableSpec) -> None:
+    """Reject a camera whose reprojection error of the matched dots is large in absolute terms
+    (``REPROJECTION_MAX_PX`` or ``REPROJECTION_MAX_DIAG`` of the image diagonal) or far larger than the dots'
+    own scatter about their rail lines (a wrong labelling that a general homography still fits roughly).
+
+    Raises:
+        TableFitError: with both numbers.
+    """
+    m = index >= 0
+    proj = camera.project_table(spec.diamonds[index[m]], h)
+    err = float(np.sqrt(np.mean(np.sum((proj - pts[m]) ** 2, axis=1))))
+    absolute = max(REPROJECTION_MAX_PX, REPROJECTION_MAX_DIAG * math.hypot(*camera.image_size))
+    if not err <= absolute:
+        raise TableFitError(f"no table found: the dots do not fit one camera (reprojection {err:.1f} px)")
+    sigma, dof = dot_scatter(pts, index)
+    if dof < MIN_SCATTER_DOF:
+        return
+    limit = max(REPROJECTION_FLOOR_PX, REPROJECTION_FACTOR * math.sqrt(2.0) * sigma)
+    if not err <= limit:
+        raise TableFitError(
+            f"no table found: the dots do not fit one camera (reprojection {err:.1f} px, "
+            f"dot scatter about the rails {sigma:.1f} px)"
+        )
 
 
 def _balls_on_table(camera: PinholeCamera, centres_px: np.ndarray, spec: TableSpec) -> int:

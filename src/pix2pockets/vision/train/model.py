@@ -16,7 +16,9 @@ import torch
 from torch import nn
 from torch.nn import functional as F  # noqa: N812
 
+from pix2pockets.vision.classes import BALL_IDS
 from pix2pockets.vision.heatmap_layout import (
+    BALL_ANY,
     CONTACT_SLICE,
     IMAGENET_MEAN,
     IMAGENET_STD,
@@ -99,5 +101,9 @@ class ExportWrapper(nn.Module):
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         out = self.net(x)
         heat = torch.sigmoid(out[:, :N_HEAT])
-        peaks = heat * (F.max_pool2d(heat, 3, 1, 1) == heat).to(heat.dtype)
+        is_peak = (F.max_pool2d(heat, 3, 1, 1) == heat).to(heat.dtype)
+        ball_peak = is_peak[:, BALL_ANY : BALL_ANY + 1] * (heat[:, BALL_ANY : BALL_ANY + 1] >= 0.01).to(heat.dtype)
+        # Ball classes are read where the "any ball" heatmap peaks: one location per ball, four class scores.
+        n_ball = len(BALL_IDS)
+        peaks = torch.cat([heat[:, :n_ball] * ball_peak, heat[:, n_ball:] * is_peak[:, n_ball:]], dim=1)
         return torch.cat([peaks, out[:, SIZE_SLICE], out[:, OFFSET_SLICE], out[:, CONTACT_SLICE]], dim=1)
