@@ -4,8 +4,8 @@
 set -u
 OUT=${1:-benchmarks/results}
 NO=${2:-1000}
-NS=${3:-300}
-NR=${4:-300}
+NS=${3:-1000}
+NR=${4:-1000}
 export OMP_NUM_THREADS=1 PYTHONPATH=src
 PY=${PY:-/work/venv/bin/python}
 mkdir -p "$OUT"
@@ -16,6 +16,11 @@ ev() { # name args...
 }
 ev "event-none-search" --planner search --balls 16 --layouts $NS --seed 0 --noise none --physics event
 ev "event-fastfiz-search" --planner search --balls 16 --layouts $NS --seed 0 --noise fastfiz --physics event
+ev "event-fastfiz-search-seed1" --planner search --balls 16 --layouts $NS --seed 1 --noise fastfiz --physics event
+for p in oracle search; do  # the paper's 1-ball: pot the lone cue ball
+  ev "event-none-$p-1ball" --planner $p --balls 1 --layouts $NO --seed 0 --noise none --physics event
+  ev "event-fastfiz-$p-1ball" --planner $p --balls 1 --layouts $NO --seed 0 --noise fastfiz --physics event
+done
 for p in oracle oracle-mirror; do
   ev "event-none-$p" --planner $p --balls 16 --layouts $NO --seed 0 --noise none --physics event
   ev "event-fastfiz-$p" --planner $p --balls 16 --layouts $NO --seed 0 --noise fastfiz --physics event

@@ -111,7 +111,15 @@ def test_works_with_a_shot_by_shot_simulator():
 
 @pytest.mark.parametrize(
     ("kw", "match"),
-    [({"fan": 4}, "fan"), ({"speeds": ()}, "speeds"), ({"heights": (0.7,)}, "heights"), ({"noise": "x"}, "noise")],
+    [
+        ({"fan": 4}, "fan"),
+        ({"speeds": ()}, "speeds"),
+        ({"heights": (0.7,)}, "heights"),
+        ({"noise": "x"}, "noise"),
+        ({"endgame": -1}, "endgame"),
+        ({"endgame_speeds": (0.0,)}, "endgame_speeds"),
+        ({"endgame_sides": (0.45,), "endgame_heights": (0.0, 0.4)}, "tip offsets"),
+    ],
 )
 def test_bad_config(kw, match):
     with pytest.raises(ValueError, match=match):
@@ -123,3 +131,29 @@ def test_potted_target_names_the_own_ball_that_dropped():
     row = np.array([-1, 3, 1])  # the stripe went into pocket 3, the solid (index 2) into pocket 1
     assert SearchPlanner._potted_target(row, lay, SOLIDS) == 2
     assert SearchPlanner._potted_target(np.array([-1, 3, -1]), lay, SOLIDS) is None
+
+
+def test_endgame_adds_side_and_finer_strokes():
+    # the last solid and the 8 among stripes: the endgame stroke set (english, more speeds) is searched
+    lay = layout([MID, 0.8], [MID, 0.3], [2.0, 1.0], [0.6, 0.4], numbers=[0, 1, 8, 9])
+    eg = {"endgame_speeds": (1.0, 2.0), "endgame_heights": (0.0, 0.3), "endgame_sides": (0.0, 0.3)}
+    on = SearchPlanner(SearchConfig(**FAST, endgame=2, endgame_candidates=2, **eg))
+    off = SearchPlanner(SearchConfig(**FAST, endgame=0, **eg))
+    a = on.suggest(lay, SOLIDS, np.random.default_rng(0))
+    b = off.suggest(lay, SOLIDS, np.random.default_rng(0))
+    assert any(s.shot.side != 0 for s in a) and all(s.shot.side == 0 for s in b)
+    assert a[0].target == 1 and a[0].success_probability >= 0.75
+    assert turn_outcome(on.simulator.simulate(lay, a[0].shot), SOLIDS).shot_succeeded
+    assert SearchConfig().endgame >= 2  # on by default: it lifts the fastfiz run-out rate (docs/benchmarks-planner.md)
+
+
+def test_rescue_tries_the_finer_strokes_on_a_hard_shot():
+    # three solids left (no endgame); rescue_below=1 treats every shot as hard, 0 never does
+    lay = layout([0.4, 0.3], [MID, 0.9], [2.0, 0.3], [1.9, 1.0], [1.0, 0.6], numbers=[0, 1, 2, 3, 8])
+    eg = {"endgame_speeds": (1.0, 2.0), "endgame_heights": (0.0,), "endgame_sides": (0.0, 0.3), "endgame": 2}
+    on = SearchPlanner(SearchConfig(**FAST, rescue_below=1.0, endgame_candidates=2, **eg))
+    off = SearchPlanner(SearchConfig(**FAST, rescue_below=0.0, **eg))
+    a = on.suggest(lay, SOLIDS, np.random.default_rng(0))
+    b = off.suggest(lay, SOLIDS, np.random.default_rng(0))
+    assert any(s.shot.side != 0 for s in a) and all(s.shot.side == 0 for s in b)
+    assert a[0].success_probability >= b[0].success_probability - 0.2  # the merged ranking keeps good shots

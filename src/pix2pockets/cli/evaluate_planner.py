@@ -27,7 +27,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         "Wilson intervals.",
     )
     parser.add_argument("--planner", default="search", choices=PLANNER_NAMES, help="planner (default search)")
-    parser.add_argument("--balls", type=int, default=16, choices=sorted(BALL_SETS), help="environment (16)")
+    parser.add_argument(
+        "--balls",
+        type=int,
+        default=16,
+        choices=sorted(BALL_SETS),
+        help="environment as in the paper: 1 = the cue ball alone (pot it), 2 = cue + 8 (pot the 8), "
+        "16 = all balls, clear solids then the 8 (16)",
+    )
     parser.add_argument("--layouts", type=int, default=100, help="number of layouts / turns (100)")
     parser.add_argument("--seed", type=int, default=0, help="seed of the layouts and noise (0)")
     parser.add_argument(

@@ -8,7 +8,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from pix2pockets.planner.hitpoints import Hitpoint, ShotKind, path_blocked
+from pix2pockets.planner.hitpoints import Hitpoint, ShotKind, path_blocked, pocket_window
 from pix2pockets.rules import GameState, group_cleared, own_balls
 from pix2pockets.state import Shot, TableLayout
 
@@ -19,7 +19,8 @@ class Suggestion:
 
     Attributes:
         shot: the stroke to play.
-        target: object ball index the shot pots (``None`` for a safety / no-pot shot).
+        target: object ball index the shot pots (``None`` for a safety / no-pot shot; the cue ball itself
+            in the 1-ball task, see :func:`lone_cue`).
         pocket: pocket index (``TableSpec.pockets`` order), or ``None``.
         kind: direct, bank or kick; ``None`` for a safety or for a pot found by the search planner's
             full-circle sweep (a combination or multi-cushion shot; ``target`` and ``pocket`` are then
@@ -65,6 +66,29 @@ def legal_targets(layout: TableLayout, state: GameState) -> list[int]:
         black = layout.black_index
         return [] if black is None else [black]
     return own_balls(layout, state.group)
+
+
+def lone_cue(layout: TableLayout) -> bool:
+    """Whether ``layout`` is the paper's 1-ball task: only the cue ball is on the table, the goal is to pot it."""
+    return len(layout) == 1 and layout.cue_index is not None
+
+
+def cue_pot_suggestions(layout: TableLayout, speed: float) -> list[Suggestion]:
+    """1-ball task: strokes sending the lone cue ball at the middle of each pocket's clear window.
+
+    ``target`` is the cue ball itself; ``value`` is the clear window [rad]; the widest window comes first.
+    Empty when the layout is not a lone cue ball.
+    """
+    if not lone_cue(layout):
+        return []
+    c = layout.positions[layout.cue_index]
+    r = layout.spec.ball_radius
+    out = []
+    for k, p in enumerate(layout.spec.pockets):
+        w = pocket_window(c, p.jaws, r)
+        if w is not None:
+            out.append(Suggestion(Shot(angle=w[1], speed=speed), layout.cue_index, k, ShotKind.DIRECT, value=w[2]))
+    return sorted(out, key=lambda s: -s.value)
 
 
 def fallback_shot(layout: TableLayout, state: GameState, speed: float) -> Suggestion:

@@ -1,15 +1,17 @@
 """Planner evaluation: the paper's Table 3 protocol over seeded random layouts.
 
 Environments (``balls``):
-    * ``1``: the cue ball and one object ball of the shooter's group (the paper's 1-ball environment
-      pockets the cue ball itself, which real rules call a scratch);
-    * ``2``: the cue ball and the 8, the shooter's group already cleared (the paper's 2-ball);
-    * ``16``: a full table at random spots, the shooter on solids (the paper's all-ball).
+    * ``1``: the cue ball alone; the goal is to pot it (the paper's 1-ball, ``pix2pockets/OneBall-v0``);
+    * ``2``: the cue ball and the 8, the shooter's group already cleared; the goal is to pot the 8 with the
+      cue ball and keep the cue ball on the table (the paper's 2-ball, ``pix2pockets/TwoBall-v0``);
+    * ``16``: a full table at random spots, the shooter on solids (the paper's all-ball,
+      ``pix2pockets/AllBall-v0``).
 
 Each layout is one turn: the planner shoots until a shot fails or the table is cleared. A shot succeeds on
-a legal pot of an own ball (or the winning 8); fouls count as failures. Per-shot success is successes over
-all shots played; full-turn clear is the fraction of turns that pot the whole group and then the 8 (or the
-single target) without a miss or foul.
+a legal pot of an own ball (or the winning 8); fouls count as failures. In the 1-ball environment the one
+shot succeeds when the cue ball drops. Per-shot success is successes over all shots played; full-turn
+clear is the fraction of turns that pot the whole group and then the 8 (or the single target) without a
+miss or foul.
 """
 
 from __future__ import annotations
@@ -22,13 +24,13 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
-from pix2pockets.planner.base import Planner, legal_targets
+from pix2pockets.planner.base import Planner, legal_targets, lone_cue
 from pix2pockets.planner.noise import NO_NOISE, NoiseModel
 from pix2pockets.rules import GameState, Outcome, turn_outcome
 from pix2pockets.state import Group, Shot, ShotResult, TableLayout, random_layout
 
-BALL_SETS: dict[int, tuple[int, ...]] = {1: (0, 1), 2: (0, 8), 16: tuple(range(16))}
-"""Ball numbers per environment."""
+BALL_SETS: dict[int, tuple[int, ...]] = {1: (0,), 2: (0, 8), 16: tuple(range(16))}
+"""Ball numbers per environment (as in ``pix2pockets/OneBall-v0``, ``TwoBall-v0``, ``AllBall-v0``)."""
 
 Z95 = 1.959963984540054
 
@@ -100,6 +102,15 @@ def play_turn(
     shots = successes = 0
     times: list[float] = []
     outcome: Outcome | None = None
+    if lone_cue(layout):  # the 1-ball task: one shot, won when the cue ball drops
+        t0 = time.perf_counter()
+        suggestion = planner.suggest(layout, state, plan_rng)[0]
+        times.append(time.perf_counter() - t0)
+        try:
+            won = simulate(layout, noise.perturb(suggestion.shot, noise_rng)).cue_pocketed
+        except RuntimeError:
+            won = False
+        return TurnRecord(1, int(won), won, Outcome.WIN if won else Outcome.END_TURN, tuple(times))
     while shots < max_shots:
         if not legal_targets(layout, state):
             return TurnRecord(shots, successes, True, outcome, tuple(times))

@@ -8,7 +8,8 @@ score = (window / 60 deg + cos(cut angle)) x m, with m the cushion multiplier (1
 * ``O(best angle, max power)``: the best-scoring hitpoint at ``max_speed`` (the paper's Oracle).
 
 Hitpoints are direct only, or direct + mirror (bank and kick). With no hitpoint the Oracle plays straight
-at the nearest legal ball.
+at the nearest legal ball. In the paper's 1-ball task (only the cue ball on the table) the hitpoints are the
+cue ball's own pocket windows, the widest first.
 
 References:
     Schiøtt et al., pix2pockets, sections "Oracle", "Introduce Mirror table" and Table 3.
@@ -22,7 +23,7 @@ from enum import StrEnum
 
 import numpy as np
 
-from pix2pockets.planner.base import Suggestion, fallback_shot, legal_targets
+from pix2pockets.planner.base import Suggestion, cue_pot_suggestions, fallback_shot, legal_targets, lone_cue
 from pix2pockets.planner.hitpoints import Hitpoint, ShotKind, find_hitpoints
 from pix2pockets.planner.mirror import PAPER_TEXT_PENALTY, PenaltyScheme, cushion_multiplier
 from pix2pockets.rules import GameState
@@ -114,13 +115,15 @@ class OraclePlanner:
         """Ranked suggestions: the chosen hitpoint first, then the rest by score."""
         cfg = self.config
         rng = rng if rng is not None else np.random.default_rng(0)
-        scored = self.scored_hitpoints(layout, state)
-        if not scored:
+        if lone_cue(layout):  # the paper's 1-ball task: pot the cue ball, the widest pocket window is best
+            suggestions = cue_pot_suggestions(layout, cfg.max_speed)
+        else:
+            suggestions = [
+                Suggestion(Shot(angle=h.cue_angle, speed=cfg.max_speed), h.target, h.pocket, h.kind, None, s, h)
+                for s, h in self.scored_hitpoints(layout, state)
+            ]
+        if not suggestions:
             return [fallback_shot(layout, state, cfg.max_speed)]
-        suggestions = [
-            Suggestion(Shot(angle=h.cue_angle, speed=cfg.max_speed), h.target, h.pocket, h.kind, None, s, h)
-            for s, h in scored
-        ]
         if cfg.mode is not OracleMode.BEST_MAX:
             pick = int(rng.integers(len(suggestions)))
             chosen = suggestions.pop(pick)

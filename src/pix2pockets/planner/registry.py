@@ -23,6 +23,7 @@ _SEARCHES: dict[str, dict[str, Any]] = {
     "search": {},
     "search-direct": {"kinds": (ShotKind.DIRECT,)},
     "search-greedy": {"lookahead": 0.0},
+    "search-basic": {"endgame": 0, "rescue_below": 0.0},  # without the endgame and rescue passes (ablation)
 }
 PLANNER_NAMES: tuple[str, ...] = (*_ORACLES, *_SEARCHES)
 """Names accepted by :func:`make_planner`: the paper's Oracle variants and our search planner."""

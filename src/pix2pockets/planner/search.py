@@ -12,8 +12,15 @@
    ``success x (1 + lookahead x V)``, ``V`` the best next-shot pot probability from where the balls stop
    (one shot of look-ahead). The mean score ranks the suggestions; the success fraction of the noisy
    replays is their success probability.
-4. **Fallback**: with no pot, shots at the legal balls over a range of cut offsets are tried; failing
+4. **Endgame and rescue**: with at most ``endgame`` legal balls left, the best ``endgame_candidates``
+   hitpoints are also expanded over a finer stroke set (more speeds and tip heights, side spin) and twice
+   as many strokes are verified: cue-ball control decides the run-out there. Elsewhere, when the best
+   verified stroke succeeds less often than ``rescue_below``, the same finer set is tried and merged.
+5. **Fallback**: with no pot, shots at the legal balls over a range of cut offsets are tried; failing
    that, a legal safety (own ball first, no foul) or a plain shot at the nearest legal ball.
+
+The paper's 1-ball task (only the cue ball on the table) pots the cue ball: the aim fan and the noisy
+replays run over the cue ball's own pocket windows.
 
 Simulators with a lean batch API (``simulate_arrays``, the ``event`` backend) are called in batches;
 others shot by shot. ``time_budget`` [s] stops the search early (results then depend on timing; set it to
@@ -29,7 +36,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pix2pockets.physics import Simulator, make_simulator
-from pix2pockets.planner.base import Suggestion, fallback_shot, legal_targets
+from pix2pockets.planner.base import Suggestion, cue_pot_suggestions, fallback_shot, legal_targets, lone_cue
 from pix2pockets.planner.hitpoints import Hitpoint, ShotKind, find_hitpoints
 from pix2pockets.planner.noise import GaussianNoise, noise_model
 from pix2pockets.planner.position import fast_position_value, pot_probability
@@ -60,6 +67,18 @@ class SearchConfig:
         max_verified: strokes that get noisy replays.
         max_cut: largest cut angle [rad].
         lookahead: weight of the next-shot value.
+        endgame: with at most this many legal balls left (the group's last balls, or the 8), the best
+            ``endgame_candidates`` hitpoints are expanded over ``endgame_speeds``, ``endgame_heights`` and
+            ``endgame_sides`` (direct shots), and ``max_verified`` and ``refine_top`` are multiplied by
+            ``endgame_scale``; 0 turns this off.
+        endgame_candidates: hitpoints expanded with the endgame stroke set.
+        endgame_speeds: endgame cue-ball speeds [m/s].
+        endgame_heights: endgame vertical tip offsets (fraction of the radius).
+        endgame_sides: endgame side tip offsets (fraction of the radius; english).
+        endgame_scale: endgame multiplier of the verification effort.
+        rescue_below: outside the endgame, when the best stroke's success probability is below this, the
+            best ``endgame_candidates`` hitpoints are also tried with the endgame stroke set (with a
+            ``time_budget``, only while at least half of it is left).
         time_budget: wall-clock limit per decision [s], ``None`` for none.
         simulator_params: keyword parameters for the simulator backend.
     """
@@ -79,6 +98,13 @@ class SearchConfig:
     max_verified: int = 8
     max_cut: float = math.radians(80.0)
     lookahead: float = 2.0
+    endgame: int = 2
+    endgame_candidates: int = 4
+    endgame_speeds: tuple[float, ...] = (0.7, 1.0, 1.4, 1.8, 2.4, 3.0)
+    endgame_heights: tuple[float, ...] = (0.0, 0.2, 0.4, -0.2, -0.4)
+    endgame_sides: tuple[float, ...] = (0.0, 0.3, -0.3)
+    endgame_scale: int = 2
+    rescue_below: float = 0.9
     time_budget: float | None = 0.5
     simulator_params: dict = field(default_factory=dict, hash=False, compare=False)
 
@@ -96,6 +122,16 @@ class SearchConfig:
             raise ValueError(f"SearchConfig.time_budget must be positive or None, got {self.time_budget}")
         if self.lookahead < 0:
             raise ValueError(f"SearchConfig.lookahead must be >= 0, got {self.lookahead}")
+        if self.endgame < 0 or self.endgame_candidates < 1 or self.endgame_scale < 1:
+            raise ValueError("SearchConfig needs endgame >= 0, endgame_candidates >= 1 and endgame_scale >= 1")
+        if not self.endgame_speeds or any(not s > 0 for s in self.endgame_speeds):
+            raise ValueError(f"SearchConfig.endgame_speeds must be positive, got {self.endgame_speeds}")
+        tips = [math.hypot(s, h) for s in self.endgame_sides for h in self.endgame_heights]
+        if not tips or max(tips) > 0.5 + 1e-9:
+            raise ValueError(
+                f"SearchConfig.endgame_sides {self.endgame_sides} and endgame_heights {self.endgame_heights} "
+                "must combine to tip offsets within 0.5 ball radius"
+            )
         noise_model(self.noise)  # validate the name early
 
 
@@ -164,6 +200,8 @@ class SearchPlanner:
             raise ValueError("cannot plan a shot: the layout has no cue ball")
         sigma = max(self.noise.angle_sigma, _MIN_SIGMA)
         z = rng.standard_normal((cfg.samples + cfg.refine_samples, 5))
+        if lone_cue(layout):
+            return self._pot_cue(layout, state, z, sigma)
         targets = legal_targets(layout, state)
         if not targets:
             return [fallback_shot(layout, state, cfg.speeds[0])]
@@ -171,8 +209,11 @@ class SearchPlanner:
         hps = find_hitpoints(layout, targets, kinds=cfg.kinds, max_cut=cfg.max_cut)
         priors = [pot_probability(h, r, sigma) for h in hps]
         order = sorted(range(len(hps)), key=lambda i: -priors[i])
+        endgame = len(targets) <= cfg.endgame
         strokes: list[_Stroke] = []
-        lo, hi = 0, cfg.max_candidates
+        if endgame:  # few balls left: position play decides the run-out; finer stroke control, more samples
+            strokes += self._fan([hps[i] for i in order[: cfg.endgame_candidates]], layout, state, sigma, True)
+        lo, hi = (cfg.endgame_candidates, 2 * cfg.max_candidates) if endgame else (0, cfg.max_candidates)
         rounds = 0
         while lo < len(order) and time.perf_counter() < self._deadline:
             strokes += self._fan([hps[i] for i in order[lo:hi]], layout, state, sigma)
@@ -184,32 +225,69 @@ class SearchPlanner:
             strokes = self._sweep(layout, state, sigma)
         if not strokes:
             return self._safety(layout, state, targets)
+        verified, rest = self._verify(strokes, layout, state, z, sigma, cfg.endgame_scale if endgame else 1)
+        half_left = tb is None or self._deadline - time.perf_counter() > 0.5 * tb  # the pass costs about that
+        if not endgame and verified[0].p < cfg.rescue_below and half_left:
+            # a hard shot: the finer endgame stroke set on the best hitpoints may find a safer stroke
+            extra = self._fan([hps[i] for i in order[: cfg.endgame_candidates]], layout, state, sigma, True)
+            if extra:
+                more, rest2 = self._verify(extra, layout, state, z, sigma, 1)
+                verified = sorted(verified + more, key=lambda s: (-s.ev, -s.p))
+                rest += rest2
+        return [self._suggestion(s) for s in verified + rest]
+
+    def _verify(self, strokes, layout, state, z, sigma, scale: int) -> tuple[list[_Stroke], list[_Stroke]]:
+        """Noisy replays of the most promising strokes: (verified ranked by value, the rest)."""
+        cfg = self.config
         strokes.sort(key=lambda s: -s.clean * _angle_p(s.margin, sigma))
-        verified = strokes[: cfg.max_verified]
+        n_verified = cfg.max_verified * scale
+        verified = strokes[:n_verified]
         for s in verified:
             s.prior_p = _angle_p(s.margin, sigma)
             s.prior_weight = cfg.prior_weight
         self._replay(verified, layout, state, z[: cfg.samples], sigma)
         verified.sort(key=lambda s: (-s.ev, -s.p))
-        self._replay(verified[: cfg.refine_top], layout, state, z[cfg.samples :], sigma)
+        self._replay(verified[: cfg.refine_top * scale], layout, state, z[cfg.samples :], sigma)
         verified.sort(key=lambda s: (-s.ev, -s.p))
-        return [self._suggestion(s) for s in verified + strokes[cfg.max_verified :]]
+        return verified, strokes[n_verified:]
 
     # -------------------------------------------------------------- phases
-    def _fan(self, hps: list[Hitpoint], layout, state, sigma) -> list[_Stroke]:
+    def _pot_cue(self, layout, state, z, sigma) -> list[Suggestion]:
+        """The paper's 1-ball task: pot the lone cue ball (aim fan and noisy replays per pocket window)."""
+        cfg = self.config
+        meta, rows = [], []
+        for sug in cue_pot_suggestions(layout, cfg.speeds[0]):
+            offsets = np.linspace(-0.75, 0.75, cfg.fan) * min(sug.value, math.radians(4.0))
+            for speed in cfg.speeds:
+                meta.append((None, speed, 0.0, 0.0, offsets, layout.cue_index))
+                rows.extend((sug.shot.angle + o, speed, 0.0, 0.0, 0.0) for o in offsets)
+        strokes = self._fan_select(meta, np.array(rows).reshape(-1, 5), layout, state, sigma)
+        if not strokes:
+            return [fallback_shot(layout, state, cfg.speeds[0])]
+        for s in strokes:
+            s.prior_p, s.prior_weight = _angle_p(s.margin, sigma), cfg.prior_weight
+        self._replay(strokes, layout, state, z, sigma)
+        strokes.sort(key=lambda s: (-s.ev, -s.p))
+        return [self._suggestion(s) for s in strokes]
+
+    def _fan(self, hps: list[Hitpoint], layout, state, sigma, endgame: bool = False) -> list[_Stroke]:
         """Clean executions over an aim fan per stroke; keep the strokes with a potting run."""
         cfg = self.config
         r = layout.spec.ball_radius
+        speeds = cfg.endgame_speeds if endgame else cfg.speeds
         rows, meta = [], []
         for hp in hps:
             gain = max(hp.cue_distance / (2 * r * max(math.cos(hp.cut_angle), 0.1)), 1.0)
             tol = float(np.clip(0.5 * hp.clear_window / gain, math.radians(0.03), math.radians(2.0)))
             offsets = np.linspace(-1.5 * tol, 1.5 * tol, cfg.fan)
-            heights = cfg.heights if hp.kind is ShotKind.DIRECT else (0.0,)
-            for speed in cfg.speeds:
+            direct = hp.kind is ShotKind.DIRECT
+            heights = (cfg.endgame_heights if endgame else cfg.heights) if direct else (0.0,)
+            sides = cfg.endgame_sides if endgame and direct else (0.0,)
+            for speed in speeds:
                 for height in heights:
-                    meta.append((hp, speed, height, offsets, hp.target))
-                    rows.extend((hp.cue_angle + o, speed, 0.0, height, 0.0) for o in offsets)
+                    for side in sides:
+                        meta.append((hp, speed, side, height, offsets, hp.target))
+                        rows.extend((hp.cue_angle + o, speed, side, height, 0.0) for o in offsets)
         return self._fan_select(meta, np.array(rows).reshape(-1, 5), layout, state, sigma)
 
     def _fan_select(self, meta, rows, layout, state, sigma) -> list[_Stroke]:
@@ -219,7 +297,7 @@ class SearchPlanner:
         first, pocket, final = self._run(layout, rows)
         ok = self._success(first, pocket, layout, state)
         out: list[_Stroke] = []
-        for k, (hp, speed, height, offsets, target) in enumerate(meta):
+        for k, (hp, speed, side, height, offsets, target) in enumerate(meta):
             seg = ok[k * len(offsets) : (k + 1) * len(offsets)]
             start, length = _longest_run(seg)
             if length == 0:
@@ -227,7 +305,9 @@ class SearchPlanner:
             centre = start + (length - 1) // 2
             row = k * len(offsets) + centre
             step = float(offsets[1] - offsets[0]) if len(offsets) > 1 else math.radians(0.1)
-            stroke = _Stroke(Shot(float(rows[row, 0]), speed, 0.0, height), hp, target, margin=length * step)
+            stroke = _Stroke(Shot(float(rows[row, 0]), speed, side, height), hp, target, margin=length * step)
+            if hp is None:
+                stroke.pocket = int(pocket[row, target])
             stroke.clean = 1.0 + cfg.lookahead * self._value(layout, state, pocket[row], final[row], sigma)
             out.append(stroke)
             if time.perf_counter() > self._deadline:
@@ -313,8 +393,10 @@ class SearchPlanner:
         Mirrors :func:`~pix2pockets.rules.turn_outcome` for the success case: a pot makes the
         no-rail rule moot, so first contact, scratch, the 8 and own pots decide.
         """
-        classes = np.array([b.ball_class.value for b in layout.balls])
         cue, black = layout.cue_index, layout.black_index
+        if lone_cue(layout):  # the 1-ball task: the cue ball is the target
+            return pocket[:, cue] >= 0
+        classes = np.array([b.ball_class.value for b in layout.balls])
         potted = pocket >= 0
         valid_first = first >= 0
         hit = np.where(valid_first, classes[np.maximum(first, 0)], "")
@@ -334,6 +416,8 @@ class SearchPlanner:
 
     def _value(self, layout: TableLayout, state: GameState, pocket_row, final_row, sigma: float) -> float:
         """Next-shot value after a successful shot with these outcome rows."""
+        if lone_cue(layout):
+            return 1.0
         keep = pocket_row < 0
         balls = [b for b, k in zip(layout.balls, keep, strict=True) if k]
         if not any(b.ball_class is BallClass.BLACK for b in balls) and layout.black_index is not None:
