@@ -116,7 +116,6 @@ def run_export(args: argparse.Namespace) -> int:
     from pix2pockets.rl.export import slim_agent
 
     check_output(args.out, args.force, (".zip",))
-
     path = slim_agent(args.model, args.out, half=not args.full_precision)
     print(f"wrote {path} ({path.stat().st_size / 1e6:.2f} MB)")
     return 0
@@ -126,7 +125,6 @@ def run_plot(args: argparse.Namespace) -> int:
     from pix2pockets.rl.curves import plot_learning_curves
 
     check_output(args.out, args.force, (".png", ".pdf", ".svg"))
-
     plot_learning_curves(args.runs, args.out, window=args.window)
     print(f"wrote {args.out}")
     return 0

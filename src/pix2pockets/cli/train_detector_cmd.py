@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+from pathlib import Path
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -52,8 +53,6 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"train-detector needs torch (pip install 'pix2pockets[train]'): {err}") from err
 
     if args.export_only:
-        from pathlib import Path
-
         from pix2pockets.vision.train.trainer import CHECKPOINT, ONNX_NAME, export_checkpoint
 
         ckpt = Path(args.out) / CHECKPOINT
@@ -86,17 +85,14 @@ def run(args: argparse.Namespace) -> int:
     return _quantize(args, path)
 
 
-def _quantize(args: argparse.Namespace, fp32: object) -> int:
+def _quantize(args: argparse.Namespace, fp32: Path) -> int:
     """With ``--int8``, write the quantised copy next to the fp32 model."""
     if not args.int8:
         return 0
-    from pathlib import Path
-
     from pix2pockets.vision.train.quantize import calibration_images, quantize_detector
 
     images = calibration_images(args.data)
     if not images:
         raise ValueError("--int8 needs --data with training images for calibration")
-    fp32 = Path(str(fp32))
     print(f"wrote {quantize_detector(fp32, fp32.with_name(fp32.stem + '-int8.onnx'), images)}")
     return 0

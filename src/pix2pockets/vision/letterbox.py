@@ -54,3 +54,12 @@ def letterbox(image_rgb: np.ndarray, long_side: int = 640, multiple: int = 32) -
     out = np.full((ph, pw, 3), PAD_VALUE, dtype=np.uint8)
     out[:nh, :nw] = resized
     return out, Letterbox(scale=scale, size=(pw, ph))
+
+
+def network_input(image_rgb: np.ndarray, long_side: int = 640, multiple: int = 32) -> tuple[np.ndarray, Letterbox]:
+    """The detector's input tensor for an RGB uint8 image: letterboxed, float32 in [0, 1], (1, 3, h, w).
+
+    The one pre-processing shared by inference and int8 calibration, so both see the same numbers.
+    """
+    padded, box = letterbox(image_rgb, long_side, multiple)
+    return (padded.astype(np.float32) / 255.0).transpose(2, 0, 1)[None], box

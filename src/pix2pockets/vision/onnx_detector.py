@@ -16,7 +16,7 @@ import numpy as np
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.heatmap_decode import decode_peaks
 from pix2pockets.vision.heatmap_layout import INPUT_MULTIPLE
-from pix2pockets.vision.letterbox import letterbox
+from pix2pockets.vision.letterbox import network_input
 
 DEFAULT_MODEL = "detector.onnx"
 
@@ -89,8 +89,7 @@ class OnnxDetector:
         image = np.asarray(image_rgb)
         if image.dtype != np.uint8 or image.ndim != 3 or image.shape[2] != 3:
             raise ValueError(f"expected an RGB uint8 image (H, W, 3), got {image.dtype} {image.shape}")
-        padded, box = letterbox(image, self.config.input_size, 32)
-        x = (padded.astype(np.float32) / 255.0).transpose(2, 0, 1)[None]
+        x, box = network_input(image, self.config.input_size, 32)
         out = self.session.run(None, {self.input_name: x})[0][0]
         return out, box, (image.shape[1], image.shape[0])
 
