@@ -121,52 +121,30 @@ def do_train(args: argparse.Namespace) -> None:
         )
 
 
+def _rl_evaluate(out: Path, args: argparse.Namespace, *how: str, force: bool = False) -> None:
+    """``pix2pockets rl evaluate`` with the grid's episodes and seed, writing ``out``."""
+    extra = ["--force"] if force else []  # a stale evaluation is replaced on purpose
+    cli("rl", "evaluate", *how, "--episodes", str(args.episodes), "--seed", str(args.eval_seed),
+        "--json", str(out), *extra)  # fmt: skip
+
+
 def do_evaluate(args: argparse.Namespace) -> None:
     root = Path(args.root)
-    for env in ENVS if not args.env else args.env:
+    envs = ENVS if not args.env else args.env
+    for env in envs:
         out = root / f"{env}-random" / "eval.json"
         if not out.exists():
             out.parent.mkdir(parents=True, exist_ok=True)
-            cli(
-                "rl",
-                "evaluate",
-                "--policy",
-                "random",
-                "--env",
-                env,
-                "--episodes",
-                str(args.episodes),
-                "--seed",
-                str(args.eval_seed),
-                "--json",
-                str(out),
-            )
-    for env in ENVS if not args.env else args.env:
+            _rl_evaluate(out, args, "--policy", "random", "--env", env)
+    for env in envs:
         for mask in ("direct", "mirror") if args.masked_random else ():
             for maxp in (False, True):
-                name = f"{env}-random-{mask}" + ("-maxp" if maxp else "")
-                out = root / name / "eval.json"
+                out = root / (f"{env}-random-{mask}" + ("-maxp" if maxp else "")) / "eval.json"
                 if out.exists():
                     continue
                 out.parent.mkdir(parents=True, exist_ok=True)
                 extra = ["--max-power"] if maxp else []
-                cli(
-                    "rl",
-                    "evaluate",
-                    "--policy",
-                    "random",
-                    "--env",
-                    env,
-                    "--mask",
-                    mask,
-                    *extra,
-                    "--episodes",
-                    str(args.episodes),
-                    "--seed",
-                    str(args.eval_seed),
-                    "--json",
-                    str(out),
-                )
+                _rl_evaluate(out, args, "--policy", "random", "--env", env, "--mask", mask, *extra)
     for run in select(args):
         model = agent_file(root / run.name)
         out = root / run.name / "eval.json"
@@ -174,19 +152,7 @@ def do_evaluate(args: argparse.Namespace) -> None:
             continue
         if out.exists() and json.loads(out.read_text())["trained_steps"] >= model_steps(model):
             continue
-        cli(
-            "rl",
-            "evaluate",
-            "--model",
-            str(model),
-            "--episodes",
-            str(args.episodes),
-            "--seed",
-            str(args.eval_seed),
-            "--json",
-            str(out),
-            "--force",  # a stale evaluation is replaced on purpose
-        )
+        _rl_evaluate(out, args, "--model", str(model), force=True)
 
 
 def _ours(root: Path, name: str, key: str = "shot_success") -> str:
