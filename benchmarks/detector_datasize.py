@@ -5,8 +5,10 @@ seen many times and compute is equal), then is scored on the test split (class-w
 post-processing, averaged over classes).
 
 Usage:
-    PYTHONPATH=src python benchmarks/detector_datasize.py --data DIR --out DIR \
-        [--sizes 10,20,40,80,155] [--steps 300] [--seed 0] [--json OUT.json]
+    PYTHONPATH=src python benchmarks/detector_datasize.py --data DIR [--data DIR ...] --out DIR \
+        [--eval-data DIR] [--sizes 10,20,40,80,155] [--steps 300] [--seed 0] [--json OUT.json]
+
+``--eval-data`` (default: the first ``--data``) is the dataset whose ``--split`` scores every model.
 """
 
 from __future__ import annotations
@@ -23,7 +25,8 @@ from pix2pockets.vision.train.trainer import TrainConfig, train
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--data", required=True)
+    parser.add_argument("--data", required=True, action="append", help="training dataset (repeatable)")
+    parser.add_argument("--eval-data", default=None, help="dataset to score on (default: the first --data)")
     parser.add_argument("--out", required=True)
     parser.add_argument("--sizes", default="10,20,40,80,155")
     parser.add_argument("--steps", type=int, default=300, help="optimiser steps per run")
@@ -33,11 +36,13 @@ def main() -> None:
     parser.add_argument("--limit-eval", type=int, default=None)
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
+    eval_data = args.eval_data or args.data[0]
     rows = []
     for n in (int(s) for s in args.sizes.split(",")):
-        epochs = max(1, math.ceil(args.steps * args.batch / n))
+        steps_per_epoch = max(1, n // args.batch)  # the trainer drops the last partial batch
+        epochs = max(1, math.ceil(args.steps / steps_per_epoch))
         cfg = TrainConfig(
-            data=(args.data,),
+            data=tuple(args.data),
             out=str(Path(args.out) / f"n{n}"),
             epochs=epochs,
             seed=args.seed,
@@ -46,10 +51,11 @@ def main() -> None:
         )
         onnx = train(cfg, progress=False)
         det = OnnxDetector(onnx, OnnxDetectorConfig(conf_threshold=0.01))
-        rep = evaluate_detector(det, args.data, EvalOptions(split=args.split, limit=args.limit_eval), progress=False)
+        rep = evaluate_detector(det, eval_data, EvalOptions(split=args.split, limit=args.limit_eval), progress=False)
         row = {
             "n_train": n,
             "epochs": epochs,
+            "steps": epochs * steps_per_epoch,
             "ap50_after": rep["after"]["average"]["ap50"],
             "ap50_before": rep["before"]["average"]["ap50"],
         }
@@ -60,7 +66,10 @@ def main() -> None:
         )
     if args.json:
         Path(args.json).write_text(
-            json.dumps({"data": args.data, "steps": args.steps, "seed": args.seed, "rows": rows}, indent=1)
+            json.dumps(
+                {"data": args.data, "eval_data": eval_data, "steps": args.steps, "seed": args.seed, "rows": rows},
+                indent=1,
+            )
         )
 
 

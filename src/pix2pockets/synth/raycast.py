@@ -427,6 +427,17 @@ def _pixel_py(
                         best = t
                         hit = ID_NOSE
                         nx, ny, nz = sg * KN, 0.0, -KU * KN
+            # inner step of the rail cap, from the cushion top (z = h) up to the cap (z = hr), seen from inside
+            xs = -cw if side == 0 else L + cw
+            if sg * (ox - xs) > 0.0 and sg * dx < 0.0:
+                t = (xs - ox) / dx
+                if 0.0 < t < best:
+                    z = oz + t * dz
+                    y = oy + t * dy
+                    if h <= z <= hr and -cw <= y <= Wd + cw and _hole_of(xs, y, holes, liner) < 0:
+                        best = t
+                        hit = ID_CAP
+                        nx, ny, nz = sg, 0.0, 0.0
             # apron / outer rail faces and body, seen from outside
             for layer in range(2):
                 off = rw if layer == 0 else rw - bi
@@ -471,6 +482,16 @@ def _pixel_py(
                         best = t
                         hit = ID_NOSE
                         nx, ny, nz = 0.0, sg * KN, -KU * KN
+            ys = -cw if side == 0 else Wd + cw
+            if sg * (oy - ys) > 0.0 and sg * dy < 0.0:
+                t = (ys - oy) / dy
+                if 0.0 < t < best:
+                    z = oz + t * dz
+                    x = ox + t * dx
+                    if h <= z <= hr and -cw <= x <= L + cw and _hole_of(x, ys, holes, liner) < 0:
+                        best = t
+                        hit = ID_CAP
+                        nx, ny, nz = 0.0, sg, 0.0
             for layer in range(2):
                 off = rw if layer == 0 else rw - bi
                 yp2 = -off if side == 0 else Wd + off
