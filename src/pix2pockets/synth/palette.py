@@ -92,6 +92,14 @@ DIAMOND_COLOURS = (
     (0.80, 0.78, 0.72),  # ivory
     (0.85, 0.75, 0.45),  # brass
 )
+DARK_DIAMOND_COLOURS = (
+    (0.04, 0.04, 0.04),  # black plastic, common on white and silver rails
+    (0.10, 0.12, 0.25),  # navy
+    (0.30, 0.05, 0.05),  # maroon
+)
+LIGHT_RAILS = ("white", "silver")
+DARK_DIAMONDS_ON_LIGHT_RAILS = 0.6
+"""Chance that a white or silver rail gets dark diamonds (white dots on a white rail are nearly invisible)."""
 
 
 def weighted_choice(rng: np.random.Generator, weights: dict[str, float]) -> str:

@@ -19,7 +19,10 @@ from pix2pockets.synth.palette import (
     BALL_COLOURS,
     CLOTH_COLOURS,
     CLOTH_WEIGHTS,
+    DARK_DIAMOND_COLOURS,
+    DARK_DIAMONDS_ON_LIGHT_RAILS,
     DIAMOND_COLOURS,
+    LIGHT_RAILS,
     LINER_COLOURS,
     RAIL_MATERIALS,
     RAIL_WEIGHTS,
@@ -141,6 +144,13 @@ def _lights(rng: np.random.Generator, kind: str, spec: TableSpec) -> np.ndarray:
     return arr
 
 
+def _diamond_colour(rng: np.random.Generator, rail_name: str) -> tuple[float, float, float]:
+    """Diamond inlay colour: light inlays, or often dark ones on light rails."""
+    if rail_name in LIGHT_RAILS and rng.random() < DARK_DIAMONDS_ON_LIGHT_RAILS:
+        return DARK_DIAMOND_COLOURS[int(rng.integers(len(DARK_DIAMOND_COLOURS)))]
+    return DIAMOND_COLOURS[int(rng.integers(len(DIAMOND_COLOURS)))]
+
+
 def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec | None = None) -> Scene:
     """Draw table build, materials, lighting and room for ``layout`` (its own spec unless ``spec``)."""
     spec = spec or layout.spec
@@ -229,7 +239,7 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
     )
     mats[rc.M_BODY] = mats[rc.M_APRON] * rng.uniform(0.3, 0.8)
     mats[rc.M_LINER] = jitter(rng, LINER_COLOURS[int(rng.integers(len(LINER_COLOURS)))], 0.1)
-    mats[rc.M_DIAMOND] = jitter(rng, DIAMOND_COLOURS[int(rng.integers(len(DIAMOND_COLOURS)))], 0.03)
+    mats[rc.M_DIAMOND] = jitter(rng, _diamond_colour(rng, rail_name), 0.03)
     mats[rc.M_CEIL] = jitter(rng, (0.3, 0.3, 0.3) if room != "arena" else (0.02, 0.02, 0.03), 0.3)
     amb_col = {"warm_pub": (1.0, 0.85, 0.65), "home": (0.95, 0.97, 1.0)}.get(lighting, (1.0, 1.0, 1.0))
     mats[rc.M_AMBCOL] = jitter(rng, amb_col, 0.03)
