@@ -1,7 +1,9 @@
 """Make one YOLO dataset view (symlinks) of the same split of several datasets, e.g. synthetic chunks.
 
 Usage:
-    python scripts/merge_yolo_splits.py OUT SPLIT DATASET [DATASET ...]
+    python scripts/merge_yolo_splits.py [--force] OUT SPLIT DATASET [DATASET ...]
+
+OUT must not exist yet; ``--force`` replaces it.
 """
 
 from __future__ import annotations
@@ -12,10 +14,15 @@ from pathlib import Path
 
 
 def main() -> None:
-    if len(sys.argv) < 4:
+    args = sys.argv[1:]
+    force = "--force" in args
+    args = [a for a in args if a != "--force"]
+    if len(args) < 3:
         sys.exit(__doc__)
-    out, split, sources = Path(sys.argv[1]), sys.argv[2], [Path(p) for p in sys.argv[3:]]
+    out, split, sources = Path(args[0]), args[1], [Path(p) for p in args[2:]]
     if out.exists():
+        if not force:
+            sys.exit(f"error: {out} exists; pass --force to replace it")
         shutil.rmtree(out)
     for sub in ("images", "labels", "meta"):
         (out / split / sub).mkdir(parents=True)
