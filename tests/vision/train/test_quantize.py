@@ -11,7 +11,7 @@ import onnxruntime as ort  # noqa: E402
 
 from pix2pockets.vision.heatmap_layout import N_OUT  # noqa: E402
 from pix2pockets.vision.train.model import CenterNet  # noqa: E402
-from pix2pockets.vision.train.quantize import quantize_detector  # noqa: E402
+from pix2pockets.vision.train.quantize import FP32_PREFIXES, fp32_nodes, quantize_detector  # noqa: E402
 from pix2pockets.vision.train.trainer import export_onnx  # noqa: E402
 
 
@@ -37,8 +37,24 @@ def test_int8_model_matches_fp32_shape_and_roughly_its_values(tmp_path):
     assert a.shape == b.shape == (1, N_OUT, 24, 32)
     reg_a, reg_b = a[0, 6:].ravel(), b[0, 6:].ravel()  # size, offset, contact regressions
     assert np.corrcoef(reg_a, reg_b)[0, 1] > 0.9
+    # the trunk's weights are quantised, the output head's are not
+    import onnx
+
+    nodes = onnx.load(str(int8)).graph.node
+    quantised_inputs = {o for n in nodes if n.op_type == "DequantizeLinear" for o in n.output}
+    convs = [n for n in nodes if n.op_type == "Conv"]
+    head = [n for n in convs if n.name.startswith(FP32_PREFIXES)]
+    trunk = [n for n in convs if not n.name.startswith(FP32_PREFIXES)]
+    assert head and trunk
+    assert all(n.input[1] in quantised_inputs for n in trunk)
+    assert not any(n.input[1] in quantised_inputs for n in head)
 
 
 def test_quantize_needs_calibration_images(tmp_path):
     with pytest.raises(ValueError, match="calibration"):
         quantize_detector(tmp_path / "missing.onnx", tmp_path / "out.onnx", [])
+
+
+def test_fp32_nodes_are_the_head_and_the_decoding():
+    names = ["/net/backbone/features.0/Conv", "/net/head/head.1/Conv", "/Sigmoid", "/net/smooth4/Conv"]
+    assert fp32_nodes(names) == ["/net/head/head.1/Conv", "/Sigmoid"]

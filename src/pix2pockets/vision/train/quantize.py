@@ -6,6 +6,7 @@ package (the ``train`` extra); the quantised model runs on plain onnxruntime.
 
 from __future__ import annotations
 
+import fnmatch
 import os
 import tempfile
 from collections.abc import Iterator, Sequence
@@ -17,6 +18,16 @@ from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.letterbox import network_input
 
 CALIBRATION_LONG_SIDE = 640
+NETWORK_PREFIX = "/net/"
+"""ONNX node-name prefix of the network inside the exported wrapper; nodes outside it are the peak decoding."""
+FP32_PREFIXES = ("/net/head",)
+"""Node-name prefixes kept in fp32: the output head. Quantising the heatmap logits cost 7-9 points of
+real-photo ball AP50 for no speed (the head is a small share of the compute)."""
+
+
+def fp32_nodes(node_names: Sequence[str]) -> list[str]:
+    """Nodes to keep in fp32: the output head and the peak decoding after the network."""
+    return [n for n in node_names if not n.startswith(NETWORK_PREFIX) or n.startswith(FP32_PREFIXES)]
 
 
 def _calibration_inputs(images: Sequence[Path], long_side: int) -> Iterator[dict[str, np.ndarray]]:
@@ -29,9 +40,12 @@ def quantize_detector(
 ) -> Path:
     """Write an int8 copy of an fp32 detector, calibrated on ``images`` (a few dozen training images).
 
+    The trunk and neck are quantised (static, QDQ, per-channel weights); the head and decoding stay fp32.
+
     Raises:
         ValueError: without calibration images or when one cannot be read.
     """
+    import onnx
     from onnxruntime.quantization import CalibrationDataReader, QuantFormat, QuantType, quantize_static
     from onnxruntime.quantization.shape_inference import quant_pre_process
 
@@ -48,6 +62,7 @@ def quantize_detector(
         pre = Path(tmp) / "pre.onnx"
         quant_pre_process(str(model), str(pre), skip_symbolic_shape=True)
         staged = Path(tmp) / "int8.onnx"
+        keep_fp32 = fp32_nodes([node.name for node in onnx.load(str(pre)).graph.node])
         quantize_static(
             str(pre),
             str(staged),
@@ -56,6 +71,7 @@ def quantize_detector(
             per_channel=True,
             activation_type=QuantType.QUInt8,
             weight_type=QuantType.QInt8,
+            nodes_to_exclude=keep_fp32,
         )
         partial = out.with_name(out.name + ".tmp")
         partial.write_bytes(staged.read_bytes())
@@ -63,11 +79,21 @@ def quantize_detector(
     return out
 
 
-def calibration_images(datasets: Sequence[str | Path], n: int = 32, split: str = "train") -> list[Path]:
-    """``n`` images spread evenly over the ``split`` images of YOLO datasets (deterministic)."""
+def calibration_images(
+    datasets: Sequence[str | Path], n: int = 32, split: str = "train", exclude: Sequence[str] = ()
+) -> list[Path]:
+    """``n`` images spread evenly over the ``split`` images of YOLO datasets (deterministic).
+
+    ``exclude`` holds file-name glob patterns to leave out (e.g. frames of a validation video).
+    """
     from pix2pockets.vision.yolo_data import load_split
 
-    items = [it.image_path for root in datasets for it in load_split(root, split)]
+    items = [
+        it.image_path
+        for root in datasets
+        for it in load_split(root, split)
+        if not any(fnmatch.fnmatch(it.image_path.name, pat) for pat in exclude)
+    ]
     if not items:
         return []
     pick = np.unique(np.linspace(0, len(items) - 1, min(n, len(items))).round().astype(int))
