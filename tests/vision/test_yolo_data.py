@@ -3,7 +3,13 @@ import json
 import numpy as np
 import pytest
 
-from pix2pockets.vision.yolo_data import dataset_class_map, load_split, read_class_names, read_contacts
+from pix2pockets.vision.yolo_data import (
+    dataset_class_map,
+    load_split,
+    load_splits,
+    read_class_names,
+    read_contacts,
+)
 
 
 def _dataset(tmp_path, names="names: [cue, black, solid, stripe, dot]\n"):
@@ -48,3 +54,11 @@ def test_class_names_both_yaml_forms(tmp_path):
 def test_missing_split(tmp_path):
     with pytest.raises(ValueError, match="no 'test/images'"):
         load_split(tmp_path, "test")
+
+
+def test_load_splits_joins_datasets_and_drops_excluded_names(tmp_path):
+    roots = [_dataset(tmp_path / "one"), _dataset(tmp_path / "two")]
+    (roots[1] / "test" / "images" / "a.jpg").rename(roots[1] / "test" / "images" / "yt-0001.jpg")
+    (roots[1] / "test" / "labels" / "a.txt").rename(roots[1] / "test" / "labels" / "yt-0001.txt")
+    assert [it.image_path.name for it in load_splits(roots, "test")] == ["a.jpg", "yt-0001.jpg"]
+    assert [it.image_path.name for it in load_splits(roots, "test", exclude=["yt-*"])] == ["a.jpg"]

@@ -103,6 +103,23 @@ def _body_solid(along, lo, hi, z, za, geo):
 
 
 @njit(cache=True)
+def _cap_step(oa, da, ob, db, oz, dz, plane, sg, lo, hi, h, hr):
+    """Hit of a ray on the rail cap's inner step face, the vertical wall at coordinate ``a = plane`` facing
+    ``sg`` (into the table) from the cushion top ``h`` up to the cap ``hr`` [m], spanning ``lo <= b <= hi``.
+
+    ``a``/``b`` are the ray's coordinates across/along the rail (origin ``oa``, ``ob``; direction ``da``,
+    ``db``). Returns (distance t, b at the hit), or (-1, 0) when the ray misses the face.
+    """
+    if sg * (oa - plane) > 0.0 and sg * da < 0.0:
+        t = (plane - oa) / da
+        z = oz + t * dz
+        b = ob + t * db
+        if h <= z <= hr and lo <= b <= hi:
+            return t, b
+    return -1.0, 0.0
+
+
+@njit(cache=True)
 def _hole_of(x, y, holes, extra):
     """Index of the pocket hole whose circle (radius + ``extra``) contains (x, y), else -1."""
     for k in range(holes.shape[0]):
@@ -429,15 +446,11 @@ def _pixel_py(
                         nx, ny, nz = sg * KN, 0.0, -KU * KN
             # inner step of the rail cap, from the cushion top (z = h) up to the cap (z = hr), seen from inside
             xs = -cw if side == 0 else L + cw
-            if sg * (ox - xs) > 0.0 and sg * dx < 0.0:
-                t = (xs - ox) / dx
-                if 0.0 < t < best:
-                    z = oz + t * dz
-                    y = oy + t * dy
-                    if h <= z <= hr and -cw <= y <= Wd + cw and _hole_of(xs, y, holes, liner) < 0:
-                        best = t
-                        hit = ID_CAP
-                        nx, ny, nz = sg, 0.0, 0.0
+            t, y = _cap_step(ox, dx, oy, dy, oz, dz, xs, sg, -cw, Wd + cw, h, hr)
+            if 0.0 < t < best and _hole_of(xs, y, holes, liner) < 0:
+                best = t
+                hit = ID_CAP
+                nx, ny, nz = sg, 0.0, 0.0
             # apron / outer rail faces and body, seen from outside
             for layer in range(2):
                 off = rw if layer == 0 else rw - bi
@@ -483,15 +496,11 @@ def _pixel_py(
                         hit = ID_NOSE
                         nx, ny, nz = 0.0, sg * KN, -KU * KN
             ys = -cw if side == 0 else Wd + cw
-            if sg * (oy - ys) > 0.0 and sg * dy < 0.0:
-                t = (ys - oy) / dy
-                if 0.0 < t < best:
-                    z = oz + t * dz
-                    x = ox + t * dx
-                    if h <= z <= hr and -cw <= x <= L + cw and _hole_of(x, ys, holes, liner) < 0:
-                        best = t
-                        hit = ID_CAP
-                        nx, ny, nz = 0.0, sg, 0.0
+            t, x = _cap_step(oy, dy, ox, dx, oz, dz, ys, sg, -cw, L + cw, h, hr)
+            if 0.0 < t < best and _hole_of(x, ys, holes, liner) < 0:
+                best = t
+                hit = ID_CAP
+                nx, ny, nz = 0.0, sg, 0.0
             for layer in range(2):
                 off = rw if layer == 0 else rw - bi
                 yp2 = -off if side == 0 else Wd + off

@@ -6,7 +6,9 @@ Labels are ``class cx cy w h`` normalised to [0, 1]. An optional JSON sidecar pe
 
 from __future__ import annotations
 
+import fnmatch
 import json
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -130,6 +132,17 @@ def load_split(root: str | Path, split: str = "test", limit: int | None = None) 
         contact = read_contacts(folder, path.stem, boxes)
         items.append(LabelledImage(path, boxes, cls, contact, size))
     return items
+
+
+def load_splits(roots: Sequence[str | Path], split: str = "train", exclude: Sequence[str] = ()) -> list[LabelledImage]:
+    """The ``split`` images of several datasets in order, without those whose file name matches a glob in
+    ``exclude`` (e.g. ``"yt-*"``, the frames of a validation video)."""
+    return [
+        it
+        for root in roots
+        for it in load_split(root, split)
+        if not any(fnmatch.fnmatch(it.image_path.name, pat) for pat in exclude)
+    ]
 
 
 def read_class_names(root: str | Path) -> list[str] | None:

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 torch = pytest.importorskip("torch")
-pytest.importorskip("onnx")
+onnx = pytest.importorskip("onnx")
 
 import onnxruntime as ort  # noqa: E402
 
@@ -38,8 +38,6 @@ def test_int8_model_matches_fp32_shape_and_roughly_its_values(tmp_path):
     reg_a, reg_b = a[0, 6:].ravel(), b[0, 6:].ravel()  # size, offset, contact regressions
     assert np.corrcoef(reg_a, reg_b)[0, 1] > 0.9
     # the trunk's weights are quantised, the output head's are not
-    import onnx
-
     nodes = onnx.load(str(int8)).graph.node
     quantised_inputs = {o for n in nodes if n.op_type == "DequantizeLinear" for o in n.output}
     convs = [n for n in nodes if n.op_type == "Conv"]

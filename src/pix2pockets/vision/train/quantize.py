@@ -6,7 +6,6 @@ package (the ``train`` extra); the quantised model runs on plain onnxruntime.
 
 from __future__ import annotations
 
-import fnmatch
 import os
 import tempfile
 from collections.abc import Iterator, Sequence
@@ -86,14 +85,9 @@ def calibration_images(
 
     ``exclude`` holds file-name glob patterns to leave out (e.g. frames of a validation video).
     """
-    from pix2pockets.vision.yolo_data import load_split
+    from pix2pockets.vision.yolo_data import load_splits
 
-    items = [
-        it.image_path
-        for root in datasets
-        for it in load_split(root, split)
-        if not any(fnmatch.fnmatch(it.image_path.name, pat) for pat in exclude)
-    ]
+    items = [it.image_path for it in load_splits(datasets, split, exclude)]
     if not items:
         return []
     pick = np.unique(np.linspace(0, len(items) - 1, min(n, len(items))).round().astype(int))

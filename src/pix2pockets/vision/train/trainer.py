@@ -8,7 +8,6 @@ index))``, so a resumed run sees the same samples as an uninterrupted one.
 from __future__ import annotations
 
 import dataclasses
-import fnmatch
 import json
 import math
 import os
@@ -25,7 +24,7 @@ from tqdm import tqdm
 from pix2pockets.vision.train.loss import detector_loss
 from pix2pockets.vision.train.model import CenterNet, ExportWrapper
 from pix2pockets.vision.train.targets import AugmentConfig, make_sample
-from pix2pockets.vision.yolo_data import LabelledImage, dataset_class_map, load_split
+from pix2pockets.vision.yolo_data import LabelledImage, dataset_class_map, load_split, load_splits
 
 CHECKPOINT = "last.pt"
 ONNX_NAME = "detector.onnx"
@@ -94,13 +93,7 @@ def _load_sources(cfg: TrainConfig) -> tuple[list[tuple[LabelledImage, dict[int,
         main += [(it, cmap) for it in load_split(root, "train")]
     if cfg.limit is not None:
         main = main[: cfg.limit]
-    balls = [
-        it
-        for root in cfg.balls
-        for it in load_split(root, "train")
-        if not any(fnmatch.fnmatch(it.image_path.name, pat) for pat in cfg.balls_exclude)
-    ]
-    return main, balls
+    return main, load_splits(cfg.balls, "train", cfg.balls_exclude)
 
 
 def _lr_at(step: int, total: int, peak: float) -> float:
