@@ -19,6 +19,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--json", required=True, dest="json_out", help="output JSON file")
     parser.add_argument("--split", default="test", help="split folder (default test)")
     parser.add_argument("--model", default=None, help="ONNX model (default: the bundled detector)")
+    parser.add_argument(
+        "--classifier",
+        default=None,
+        help="ball classifier ONNX re-scoring ball classes from full-resolution crops (default: the bundled one; "
+        "'none': the detector's own class heads)",
+    )
     parser.add_argument("--detector", choices=["onnx", "hough"], default="onnx", help="onnx (default) or hough")
     parser.add_argument("--hough-radii", default="15,30", help="hough: min ball radius, max radius px (paper 15,30)")
     parser.add_argument("--agnostic", action="store_true", help="class-agnostic ball metrics")
@@ -57,10 +63,18 @@ def run(args: argparse.Namespace) -> int:
         detector = HoughDetector(HoughParams(min_radius_ball=r_min, max_radius=r_max), dots=not args.agnostic)
         model = "hough"
     else:
-        from pix2pockets.vision.onnx_detector import OnnxDetector, OnnxDetectorConfig, default_model_path
+        from pix2pockets.vision.onnx_detector import (
+            OnnxDetector,
+            OnnxDetectorConfig,
+            classifier_from_option,
+            default_model_path,
+        )
 
         model = str(Path(args.model) if args.model else default_model_path())
-        detector = OnnxDetector(model, OnnxDetectorConfig(args.input_size, 0.01, threads=args.threads))
+        classifier = classifier_from_option(args.classifier, args.threads)
+        detector = OnnxDetector(model, OnnxDetectorConfig(args.input_size, 0.01, threads=args.threads), classifier)
+        if classifier is not None:
+            model += f" + {classifier.model_path}"
     opts = EvalOptions(args.split, args.agnostic, ball_classes, args.conf, limit=args.limit, post=args.post)
     report = evaluate_detector(detector, args.data, opts, progress=not args.quiet)
     report.update({"data": str(args.data), "model": model, "conf_threshold": args.conf})

@@ -28,6 +28,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--host", default="127.0.0.1", help="address to listen on (default: 127.0.0.1)")
     parser.add_argument("--port", type=int, default=8000, help="port to listen on (default: 8000)")
     parser.add_argument("--model", help="detector ONNX model (default: the bundled one)")
+    parser.add_argument(
+        "--classifier",
+        default=None,
+        help="ball classifier ONNX re-scoring ball classes from full-resolution crops (default: the bundled one; "
+        "'none': the detector's own class heads)",
+    )
     parser.add_argument("--max-upload-mb", type=float, default=20.0, help="largest upload [MB] (default: 20)")
     parser.set_defaults(func=run)
 
@@ -47,10 +53,10 @@ def run(args: argparse.Namespace) -> int:
     from pix2pockets.web.app import create_app
 
     # load the model and the planner now: a broken build fails here with one line, not on the first upload
-    if args.model:
-        from pix2pockets.vision.onnx_detector import OnnxDetector
+    if args.model or args.classifier:
+        from pix2pockets.vision.onnx_detector import OnnxDetector, classifier_from_option, default_model_path
 
-        detector = OnnxDetector(args.model)
+        detector = OnnxDetector(args.model or default_model_path(), classifier=classifier_from_option(args.classifier))
     else:
         detector = default_detector()
     app = create_app(detector, default_planner(), max_upload_bytes=int(args.max_upload_mb * 1e6))

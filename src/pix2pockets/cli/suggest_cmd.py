@@ -33,6 +33,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--json", dest="json_out", help="write the result as JSON here ('-' for stdout)")
     parser.add_argument("--model", help="detector ONNX model (default: the bundled one)")
     parser.add_argument(
+        "--classifier",
+        default=None,
+        help="ball classifier ONNX re-scoring ball classes from full-resolution crops (default: the bundled one; "
+        "'none': the detector's own class heads)",
+    )
+    parser.add_argument(
         "--time-budget",
         type=float,
         metavar="SECONDS",
@@ -77,10 +83,10 @@ def run(args: argparse.Namespace) -> int:
     from pix2pockets.pipeline.photo import load_image, suggest
 
     detector = None
-    if args.model:
-        from pix2pockets.vision.onnx_detector import OnnxDetector
+    if args.model or args.classifier:
+        from pix2pockets.vision.onnx_detector import OnnxDetector, classifier_from_option, default_model_path
 
-        detector = OnnxDetector(args.model)
+        detector = OnnxDetector(args.model or default_model_path(), classifier=classifier_from_option(args.classifier))
     if args.time_budget is not None and not args.time_budget > 0:
         raise ValueError(f"--time-budget must be a positive number of seconds, got {args.time_budget}")
     planner = None  # the pipeline's default planner

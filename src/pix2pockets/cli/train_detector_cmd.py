@@ -24,6 +24,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--balls-exclude", action="append", default=[], help="file-name glob of ball-only images to skip (repeatable)"
     )
+    parser.add_argument(
+        "--balls-table-class",
+        type=int,
+        default=None,
+        help="class id of a whole-table box in --balls sets: outside it diamonds are taught 'none' (e.g. 1)",
+    )
     parser.add_argument("--balls-fraction", type=float, default=0.25, help="ball-only images per epoch (fraction)")
     parser.add_argument("--batch", type=int, default=8, help="images per step (default 8)")
     parser.add_argument("--crop", type=int, default=320, help="training crop side in px (default 320)")
@@ -67,6 +73,7 @@ def run(args: argparse.Namespace) -> int:
         balls=tuple(args.balls),
         balls_class=args.balls_class,
         balls_exclude=tuple(args.balls_exclude),
+        balls_table_class=args.balls_table_class,
         epochs=args.epochs,
         seed=args.seed,
         batch=args.batch,

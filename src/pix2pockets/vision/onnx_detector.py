@@ -13,8 +13,10 @@ from pathlib import Path
 
 import numpy as np
 
+from pix2pockets.vision.ball_classifier import BallClassifier, classified_balls, default_classifier_path
+from pix2pockets.vision.classes import DOT_ID
 from pix2pockets.vision.detections import Detections
-from pix2pockets.vision.heatmap_decode import decode_peaks
+from pix2pockets.vision.heatmap_decode import decode_ball_peaks, decode_peaks
 from pix2pockets.vision.heatmap_layout import INPUT_MULTIPLE
 from pix2pockets.vision.letterbox import network_input
 
@@ -57,15 +59,20 @@ class OnnxDetector:
     Args:
         model_path: the ``.onnx`` file written by ``pix2pockets train-detector``.
         config: inference settings.
+        classifier: optional second stage that re-reads each ball from the full-resolution photo and
+            re-scores its class (``pix2pockets train-ball-classifier``); None uses the detector's class heads.
 
     Raises:
         ValueError: if the file does not exist or is not a model of the expected form.
     """
 
-    def __init__(self, model_path: str | Path, config: OnnxDetectorConfig | None = None) -> None:
+    def __init__(
+        self, model_path: str | Path, config: OnnxDetectorConfig | None = None, classifier: BallClassifier | None = None
+    ) -> None:
         import onnxruntime as ort
 
         self.config = config or OnnxDetectorConfig()
+        self.classifier = classifier
         path = Path(model_path)
         if not path.is_file():
             raise ValueError(f"detector model not found: {path}")
@@ -82,8 +89,8 @@ class OnnxDetector:
 
     @classmethod
     def from_default(cls, config: OnnxDetectorConfig | None = None) -> OnnxDetector:
-        """The detector shipped with the package."""
-        return cls(default_model_path(), config)
+        """The detector shipped with the package, with the shipped ball classifier when there is one."""
+        return cls(default_model_path(), config, default_classifier((config or OnnxDetectorConfig()).threads))
 
     def _forward(self, image_rgb: np.ndarray):
         image = np.asarray(image_rgb)
@@ -97,10 +104,31 @@ class OnnxDetector:
         """Raw (not post-processed) detections of the five classes in an RGB uint8 image."""
         out, box, size = self._forward(image_rgb)
         c = self.config
-        return decode_peaks(out, box, c.conf_threshold, c.max_detections, image_size=size)
+        if self.classifier is None:
+            return decode_peaks(out, box, c.conf_threshold, c.max_detections, image_size=size)
+        balls, heat = decode_ball_peaks(out, box, c.conf_threshold, c.max_detections, image_size=size)
+        probs = self.classifier.classify(image_rgb, balls.boxes)
+        dots = decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=(DOT_ID,), image_size=size)
+        return Detections.concatenate([classified_balls(balls, heat, probs, c.conf_threshold), dots])
 
     def detect_balls(self, image_rgb: np.ndarray) -> Detections:
         """Class-agnostic ball detections from the "any ball" heatmap (class ids all 0, meaning "ball")."""
         out, box, size = self._forward(image_rgb)
         c = self.config
         return decode_peaks(out, box, c.conf_threshold, c.max_detections, agnostic=True, image_size=size)
+
+
+def default_classifier(threads: int = 1) -> BallClassifier | None:
+    """The ball classifier shipped with the package, or None when this build has none."""
+    path = default_classifier_path()
+    return BallClassifier(path, threads) if path.is_file() else None
+
+
+def classifier_from_option(option: str | None, threads: int = 1) -> BallClassifier | None:
+    """The classifier a command-line option names: None -> the shipped one (if any), "none" -> no second stage,
+    anything else -> that ONNX file."""
+    if option is None:
+        return default_classifier(threads)
+    if option.lower() == "none":
+        return None
+    return BallClassifier(option, threads)

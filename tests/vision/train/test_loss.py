@@ -23,3 +23,21 @@ def test_class_loss_is_low_for_the_right_class_and_high_for_a_wrong_one():
 def test_class_loss_is_zero_without_labelled_balls():
     out = torch.randn(1, N_OUT, 8, 8)
     assert float(ball_class_loss(out, _batch(-1))) == 0.0
+
+
+def test_heat_mask_adds_the_off_table_diamond_cells():
+    import torch
+
+    from pix2pockets.vision.classes import DOT_ID
+    from pix2pockets.vision.heatmap_layout import N_HEAT
+    from pix2pockets.vision.train.loss import heat_mask
+
+    kind = torch.ones(2, N_HEAT)
+    kind[1, :5] = 0  # the second sample is a ball-only photo
+    off = torch.zeros(2, 4, 4)
+    off[1, 0, 0] = 1
+    m = heat_mask({"kind_mask": kind, "heat": torch.zeros(2, N_HEAT, 4, 4), "off_table": off})
+    assert m.shape == (2, N_HEAT, 4, 4)
+    assert m[0].min() == 1
+    assert m[1, DOT_ID].sum() == 1 and m[1, DOT_ID, 0, 0] == 1
+    assert m[1, 0].sum() == 0 and m[1, 5].min() == 1

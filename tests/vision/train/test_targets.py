@@ -30,3 +30,25 @@ def test_ball_only_photos_have_no_ball_class():
     s = make_sample(image, _item(), {0: 0, 3: 0}, True, cfg, np.random.default_rng(0))
     assert s.reg_mask.sum() == 2
     assert np.all(s.ball_class == -1)
+
+
+def test_off_table_mask_covers_cells_outside_the_widened_box():
+    from pix2pockets.vision.train.targets import off_table_mask
+
+    m = off_table_mask(np.array([[40.0, 40.0, 120.0, 80.0]]), 40, margin=0.0)
+    assert m.shape == (40, 40)
+    assert m[15, 15] == 0 and m[0, 0] == 1 and m[25, 15] == 1  # (row, col): inside, corner, below the box
+    wide = off_table_mask(np.array([[40.0, 40.0, 120.0, 80.0]]), 40, margin=0.1)
+    assert wide.sum() < m.sum()
+
+
+def test_ball_only_photo_with_a_table_box_supervises_diamonds_off_the_table():
+    cfg = AugmentConfig(crop=640, scale_range=(1.0, 1.0), flip=False, colour=0.0)
+    boxes = np.array([[100.0, 100.0, 120.0, 120.0], [50.0, 60.0, 500.0, 400.0]])
+    item = LabelledImage(Path("x.png"), boxes, np.array([0, 1]), np.full((2, 2), np.nan), (640, 480))
+    image = np.zeros((480, 640, 3), np.uint8)
+    with_table = make_sample(image, item, {0: 0}, True, cfg, np.random.default_rng(0), table_class=1)
+    assert with_table.off_table[75, 75] == 0  # inside the table box wherever the crop lands
+    assert with_table.off_table[5, 5] == 1 and with_table.off_table[150, 150] == 1
+    without = make_sample(image, item, {0: 0}, True, cfg, np.random.default_rng(0))
+    assert without.off_table.sum() == 0

@@ -8,21 +8,21 @@ from __future__ import annotations
 
 import torch
 
-from pix2pockets.vision.classes import BALL_IDS
+from pix2pockets.vision.classes import BALL_IDS, DOT_ID
 from pix2pockets.vision.heatmap_layout import CONTACT_SLICE, N_HEAT, OFFSET_SLICE, SIZE_SLICE
 
 
 def focal_loss(logits: torch.Tensor, target: torch.Tensor, channel_mask: torch.Tensor) -> torch.Tensor:
-    """Focal loss (alpha 2, beta 4) summed over supervised channels, divided by the number of peaks.
+    """Focal loss (alpha 2, beta 4) summed over supervised cells, divided by the number of peaks.
 
     Args:
         logits: (N, C, h, w) heatmap logits.
         target: (N, C, h, w) Gaussian targets in [0, 1] with exact 1 at centres.
-        channel_mask: (N, C) 1 where a channel is supervised for that sample.
+        channel_mask: (N, C) 1 where a channel is supervised for that sample, or (N, C, h, w) per cell.
     """
     p = torch.sigmoid(logits).clamp(1e-4, 1 - 1e-4)
     pos = (target >= 0.999).float()
-    m = channel_mask[:, :, None, None]
+    m = channel_mask if channel_mask.ndim == 4 else channel_mask[:, :, None, None]
     pos_loss = -torch.log(p) * (1 - p) ** 2 * pos * m
     neg_loss = -torch.log(1 - p) * p**2 * (1 - target) ** 4 * (1 - pos) * m
     n_pos = (pos * m).sum().clamp(min=1.0)
@@ -53,9 +53,19 @@ def ball_class_loss(out: torch.Tensor, batch: dict[str, torch.Tensor]) -> torch.
     return torch.nn.functional.cross_entropy(logits[known], label[known])
 
 
+def heat_mask(batch: dict[str, torch.Tensor]) -> torch.Tensor:
+    """(N, N_HEAT, h, w) supervised heatmap cells: whole channels from ``kind_mask``, plus the diamond channel
+    off the table in ball-only photos (``off_table``)."""
+    n, c = batch["kind_mask"].shape
+    h, w = batch["heat"].shape[2:]
+    m = batch["kind_mask"][:, :, None, None].expand(n, c, h, w).clone()
+    m[:, DOT_ID] = torch.maximum(m[:, DOT_ID], batch["off_table"])
+    return m
+
+
 def detector_loss(out: torch.Tensor, batch: dict[str, torch.Tensor]) -> tuple[torch.Tensor, dict[str, float]]:
     """Total loss and its parts for a batch; see :class:`pix2pockets.vision.train.targets.Sample`."""
-    heat = focal_loss(out[:, :N_HEAT], batch["heat"], batch["kind_mask"])
+    heat = focal_loss(out[:, :N_HEAT], batch["heat"], heat_mask(batch))
     m = batch["reg_mask"][..., None]
     n = m.sum().clamp(min=1.0)
     size = (torch.abs(_gather(out[:, SIZE_SLICE], batch["index"]) - batch["size"]) * m).sum() / n

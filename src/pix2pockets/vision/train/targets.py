@@ -45,7 +45,9 @@ class Sample:
     """One network input and its targets (numpy; converted to tensors by the training loop).
 
     ``kind_mask`` (N_HEAT,) says which heatmap channels are supervised: ball-only photos leave the five
-    class channels unsupervised (their diamonds and colours are unlabelled).
+    class channels unsupervised (their diamonds and colours are unlabelled). ``off_table`` marks the cells of
+    a ball-only photo outside its labelled table box, where the diamond channel is still taught "no diamond":
+    walls, lamps and clothes are where a detector trained on renders alone invents diamonds.
     """
 
     image: np.ndarray  # (3, S, S) float32 in [0, 1]
@@ -58,6 +60,24 @@ class Sample:
     contact: np.ndarray  # (MAX_OBJECTS, 2)
     contact_mask: np.ndarray  # (MAX_OBJECTS,)
     ball_class: np.ndarray  # (MAX_OBJECTS,) int64 ball class 0-3, -1 where unknown (dots, ball-only photos)
+    off_table: np.ndarray  # (S/4, S/4) float32, 1 outside the table box of a ball-only photo
+
+
+TABLE_MARGIN = 0.04
+"""A ball-only photo's table box is widened by this fraction of its size on each side before cells outside it
+count as off the table (hand-drawn boxes sometimes clip the far rail)."""
+
+
+def off_table_mask(table_boxes: np.ndarray, out: int, margin: float = TABLE_MARGIN) -> np.ndarray:
+    """(out, out) mask: 1 for heatmap cells whose centre is outside every widened table box (boxes in crop px)."""
+    mask = np.ones((out, out), np.float32)
+    centres = (np.arange(out) + 0.5) * STRIDE
+    for x0, y0, x1, y1 in np.asarray(table_boxes, float).reshape(-1, 4):
+        mx, my = margin * (x1 - x0), margin * (y1 - y0)
+        cols = (centres >= x0 - mx) & (centres <= x1 + mx)
+        rows = (centres >= y0 - my) & (centres <= y1 + my)
+        mask[np.ix_(rows, cols)] = 0
+    return mask
 
 
 def draw_gaussian(heat: np.ndarray, cx: int, cy: int, sigma: float) -> None:
@@ -95,6 +115,7 @@ def make_sample(
     ball_only: bool,
     cfg: AugmentConfig,
     rng: np.random.Generator,
+    table_class: int | None = None,
 ) -> Sample:
     """Augment one labelled image and build its targets.
 
@@ -106,6 +127,8 @@ def make_sample(
         ball_only: labels are class-agnostic balls: only the "any ball" channel is supervised.
         cfg: augmentation settings.
         rng: the sample's random generator.
+        table_class: for ``ball_only`` sets, the dataset class id of a box around the whole table; images
+            that have one teach the diamond channel "no diamond" outside it.
     """
     h, w = image_rgb.shape[:2]
     s = cfg.crop
@@ -147,6 +170,11 @@ def make_sample(
             [np.minimum(x1, x2), boxes[:, 1] * scale - oy, np.maximum(x1, x2), boxes[:, 3] * scale - oy], 1
         )
     cont = np.stack([item.contact[:, 0] * ax + bx, item.contact[:, 1] * scale - oy], 1) if len(boxes) else boxes[:, :2]
+    off_table = np.zeros((out, out), np.float32)
+    if ball_only and table_class is not None and len(boxes):
+        tables = boxes[item.class_id == table_class]
+        if len(tables):
+            off_table = off_table_mask(tables, out)
     n = 0
     order = np.argsort(-(boxes[:, 2] - boxes[:, 0]) * (boxes[:, 3] - boxes[:, 1])) if len(boxes) else []
     for i in order:
@@ -177,5 +205,15 @@ def make_sample(
                 ball_class[n] = det_k
             n += 1
     return Sample(
-        img.transpose(2, 0, 1).copy(), heat, kind_mask, index, reg_mask, size, offset, contact, contact_mask, ball_class
+        img.transpose(2, 0, 1).copy(),
+        heat,
+        kind_mask,
+        index,
+        reg_mask,
+        size,
+        offset,
+        contact,
+        contact_mask,
+        ball_class,
+        off_table,
     )

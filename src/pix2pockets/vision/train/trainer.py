@@ -39,6 +39,8 @@ class TrainConfig:
         balls: ball-only YOLO datasets (e.g. real photos); class ``balls_class`` is "ball", others ignored.
         balls_exclude: file-name glob patterns of ball-only images to leave out (e.g. frames of the video
             that the validation photos come from).
+        balls_table_class: class id of a whole-table box in the ball-only sets; outside it the diamond
+            channel learns "no diamond" (None: diamonds unsupervised in those photos).
         out: output folder (checkpoints, log, ONNX).
         epochs: passes over the five-class training images.
         seed: the one seed for initialisation, order and augmentation.
@@ -47,7 +49,8 @@ class TrainConfig:
         lr: peak AdamW learning rate (cosine decay, linear warm-up).
         threads: torch CPU threads.
         limit: use only the first ``limit`` five-class training images (training-size ablation).
-        balls_fraction: ball-only images per epoch, as a fraction of the five-class images.
+        balls_fraction: ball-only images per epoch, as a fraction of the five-class images (drawn with
+            repeats when that is more than there are).
         checkpoint_minutes: save ``last.pt`` at least this often [min].
         max_minutes: stop (checkpoint + export) after this much wall time in this run [min]; 0 = no limit.
         pretrained: start the trunk from ImageNet weights.
@@ -59,6 +62,7 @@ class TrainConfig:
     balls: tuple[str, ...] = ()
     balls_class: int = 0
     balls_exclude: tuple[str, ...] = ()
+    balls_table_class: int | None = None
     epochs: int = 10
     seed: int = 0
     batch: int = 8
@@ -165,7 +169,8 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
     opt = torch.optim.AdamW([p for p in model.parameters() if p.requires_grad], lr=cfg.lr, weight_decay=1e-4)
     if cfg.init and not resume:
         model.load_state_dict(torch.load(cfg.init, map_location="cpu", weights_only=False)["model"])
-    n_balls = min(len(balls), round(cfg.balls_fraction * len(main))) if main else len(balls)
+    # ball-only photos per epoch; more than there are repeats some (each copy is augmented differently)
+    n_balls = (round(cfg.balls_fraction * len(main)) if main else len(balls)) if balls else 0
     per_epoch = len(main) + n_balls
     steps_per_epoch = max(1, per_epoch // cfg.batch)
     total = steps_per_epoch * cfg.epochs
@@ -211,7 +216,8 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
         order_rng = np.random.default_rng((cfg.seed, epoch))
         items: list[tuple[LabelledImage, dict[int, int] | None]] = list(main)
         if n_balls:
-            items += [(balls[i], None) for i in order_rng.choice(len(balls), n_balls, replace=False)]
+            picks = order_rng.choice(len(balls), n_balls, replace=n_balls > len(balls))
+            items += [(balls[i], None) for i in picks]
         order = order_rng.permutation(len(items))
         while batch_i < steps_per_epoch:
             idx = order[batch_i * cfg.batch : (batch_i + 1) * cfg.batch]
@@ -228,6 +234,7 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
                         ball_only,
                         cfg.augment,
                         rng,
+                        cfg.balls_table_class,
                     )
                 )
             batch = _collate(samples)

@@ -1,0 +1,46 @@
+"""``pix2pockets train-ball-classifier``: train the second-stage ball classifier on crops (needs torch)."""
+
+from __future__ import annotations
+
+import argparse
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    parser = sub.add_parser(
+        "train-ball-classifier",
+        help="train the crop classifier (cue, black, solid, stripe, no ball) and export ONNX ('train' extra)",
+        description="Cut 32 px crops around every labelled ball (and ball-sized crops with no ball) from YOLO "
+        "datasets, train a small CNN on them and write OUT/ball-classifier.onnx and OUT/metrics.json (confusion "
+        "matrix on the datasets' test splits).",
+    )
+    parser.add_argument("--data", action="append", default=[], help="YOLO dataset with the five classes (repeatable)")
+    parser.add_argument("--out", required=True, help="output folder")
+    parser.add_argument("--negatives", action="append", default=[], help="ball-only dataset for 'no ball' crops")
+    parser.add_argument("--negatives-exclude", action="append", default=[], help="file-name glob left out")
+    parser.add_argument("--epochs", type=int, default=6, help="passes over the crops (default 6)")
+    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
+    parser.add_argument("--batch", type=int, default=256, help="crops per step (default 256)")
+    parser.add_argument("--lr", type=float, default=3e-3, help="peak learning rate (default 3e-3)")
+    parser.add_argument("--threads", type=int, default=1, help="torch CPU threads (default 1)")
+    parser.add_argument("--quiet", action="store_true", help="no progress bar")
+    parser.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    try:
+        from pix2pockets.vision.train.crop_classifier import CropTrainConfig, train_crop_classifier
+    except ImportError as err:
+        raise ValueError(f"train-ball-classifier needs torch (pip install 'pix2pockets[train]'): {err}") from err
+    cfg = CropTrainConfig(
+        data=tuple(args.data),
+        out=args.out,
+        negatives=tuple(args.negatives),
+        negatives_exclude=tuple(args.negatives_exclude),
+        epochs=args.epochs,
+        seed=args.seed,
+        batch=args.batch,
+        lr=args.lr,
+        threads=args.threads,
+    )
+    print(f"wrote {train_crop_classifier(cfg, progress=not args.quiet)}")
+    return 0

@@ -1,0 +1,98 @@
+"""The second-stage ball classifier run through onnxruntime: full-resolution crops -> ball class or no ball.
+
+Example:
+    >>> clf = BallClassifier.from_default()  # doctest: +SKIP
+    >>> probs = clf.classify(image_rgb, boxes)  # (n, 5): cue, black, solid, stripe, no ball  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from pix2pockets.vision.ball_crops import CROP_SIZE, ball_diameters, crop_balls
+from pix2pockets.vision.classes import BALL_IDS
+from pix2pockets.vision.detections import Detections
+
+DEFAULT_CLASSIFIER = "ball-classifier.onnx"
+N_OUTPUTS = 5
+"""Probabilities of cue, black, solid, stripe (detector class ids 0-3) and "no ball"."""
+
+
+def default_classifier_path() -> Path:
+    """Path of the classifier shipped as package data (may not exist in a checkout without weights)."""
+    return Path(str(resources.files("pix2pockets.data").joinpath("models", DEFAULT_CLASSIFIER)))
+
+
+class BallClassifier:
+    """Classifies ball detections from crops of the original photo.
+
+    Args:
+        model_path: the ``.onnx`` file written by ``pix2pockets train-ball-classifier``.
+        threads: onnxruntime intra-op threads (0 lets onnxruntime choose).
+
+    Raises:
+        ValueError: if the file does not exist or is not a classifier of the expected form.
+    """
+
+    def __init__(self, model_path: str | Path, threads: int = 1) -> None:
+        import onnxruntime as ort
+
+        path = Path(model_path)
+        if not path.is_file():
+            raise ValueError(f"ball classifier model not found: {path}")
+        opts = ort.SessionOptions()
+        opts.intra_op_num_threads = threads
+        opts.inter_op_num_threads = 1
+        opts.log_severity_level = 3
+        try:
+            self.session = ort.InferenceSession(str(path), opts, providers=["CPUExecutionProvider"])
+        except Exception as err:  # onnxruntime raises its own exception types
+            raise ValueError(f"cannot load ball classifier {path}: {err}") from err
+        shape = self.session.get_inputs()[0].shape
+        if len(shape) != 4 or shape[1:] != [CROP_SIZE, CROP_SIZE, 3]:
+            raise ValueError(f"{path} is not a ball classifier: input shape {shape}")
+        self.input_name = self.session.get_inputs()[0].name
+        self.model_path = path
+
+    @classmethod
+    def from_default(cls, threads: int = 1) -> BallClassifier:
+        """The classifier shipped with the package."""
+        return cls(default_classifier_path(), threads)
+
+    def classify(self, image_rgb: np.ndarray, boxes: np.ndarray) -> np.ndarray:
+        """Probabilities (n, 5) of cue, black, solid, stripe and no ball for xyxy boxes (n, 4) [px]."""
+        boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
+        if len(boxes) == 0:
+            return np.zeros((0, N_OUTPUTS), dtype=np.float32)
+        centres = 0.5 * (boxes[:, :2] + boxes[:, 2:])
+        crops = crop_balls(image_rgb, centres, ball_diameters(boxes))
+        return self.session.run(None, {self.input_name: crops})[0]
+
+
+def classified_balls(
+    balls: Detections, class_heat: np.ndarray, probs: np.ndarray, conf_threshold: float = 0.05
+) -> Detections:
+    """Ball detections with one entry per ball and class, scored by the detector and the classifier together.
+
+    Score of class k = ball score x sqrt(p_k x h_k / sum(h)): the geometric mean of the classifier's
+    probability p_k and the detector's class heatmap share h_k. Either alone did worse on the synthetic test
+    splits (``docs/benchmarks-detector.md``); the "no ball" probability lowers every class score of a doubtful
+    ball.
+
+    Args:
+        balls: class-agnostic ball detections (the "any ball" heatmap peaks), class ids ignored.
+        class_heat: (n, 4) the detector's cue, black, solid and stripe heatmap scores at those peaks.
+        probs: (n, 5) classifier output for those balls (cue, black, solid, stripe, no ball).
+        conf_threshold: entries below this score are dropped.
+    """
+    n, k = len(balls), len(BALL_IDS)
+    probs = np.asarray(probs, dtype=float).reshape(n, N_OUTPUTS)
+    heat = np.asarray(class_heat, dtype=float).reshape(n, k)
+    share = heat / np.maximum(heat.sum(axis=1, keepdims=True), 1e-9)
+    score = balls.confidence[:, None] * np.sqrt(probs[:, :k] * share)
+    keep = score >= conf_threshold
+    rows, cls = np.nonzero(keep)
+    return Detections(balls.boxes[rows], score[keep], np.asarray(BALL_IDS)[cls], balls.contact[rows])

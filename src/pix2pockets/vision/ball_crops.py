@@ -1,0 +1,56 @@
+"""Square, scale-normalised crops around balls: the input of the second-stage ball classifier.
+
+The detector sees the photo scaled to a 640 px long side, where a far ball is 8-12 px wide. The classifier
+reads each ball again from the full-resolution photo, scaled so every ball fills the same part of the crop.
+"""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+
+CROP_SIZE = 32
+"""Side of a classifier crop [px]."""
+CROP_CONTEXT = 1.5
+"""Crop side over ball diameter: the ball plus a thin ring of cloth around it."""
+
+
+def ball_diameters(boxes: np.ndarray) -> np.ndarray:
+    """Ball diameters [px] from xyxy boxes (n, 4): the mean of width and height, at least 2 px."""
+    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
+    return np.maximum(0.5 * ((boxes[:, 2] - boxes[:, 0]) + (boxes[:, 3] - boxes[:, 1])), 2.0)
+
+
+def crop_balls(
+    image: np.ndarray,
+    centres: np.ndarray,
+    diameters: np.ndarray,
+    size: int = CROP_SIZE,
+    context: float = CROP_CONTEXT,
+) -> np.ndarray:
+    """Crops (n, size, size, 3) uint8 centred on balls, each `context` ball diameters wide.
+
+    Args:
+        image: RGB uint8 (H, W, 3).
+        centres: (n, 2) ball centres x, y [px].
+        diameters: (n,) ball diameters [px].
+        size: crop side [px].
+        context: crop side over ball diameter.
+
+    Parts of a crop outside the image repeat the nearest edge pixel.
+    """
+    centres = np.asarray(centres, dtype=float).reshape(-1, 2)
+    diameters = np.asarray(diameters, dtype=float).reshape(-1)
+    if len(centres) != len(diameters):
+        raise ValueError(f"{len(centres)} centres but {len(diameters)} diameters")
+    h, w = image.shape[:2]
+    out = np.empty((len(centres), size, size, 3), dtype=np.uint8)
+    for i, ((cx, cy), d) in enumerate(zip(centres, diameters, strict=True)):
+        side = max(2, round(d * context))
+        x0, y0 = round(cx - side / 2), round(cy - side / 2)
+        xs = np.clip(np.arange(x0, x0 + side), 0, w - 1)
+        ys = np.clip(np.arange(y0, y0 + side), 0, h - 1)
+        region = image[ys[:, None], xs[None, :]]
+        interp = cv2.INTER_AREA if side > size else cv2.INTER_LINEAR
+        out[i] = cv2.resize(region, (size, size), interpolation=interp)
+    return out

@@ -1,0 +1,222 @@
+"""Train the second-stage ball classifier (cue, black, solid, stripe, no ball) on crops and export it to ONNX.
+
+A small VGG-style network on 32 px crops: three stages of two 3x3 convolutions (16, 32, 64 channels),
+global average pooling, a linear layer. About 70 k parameters, about 6 MFLOPs per crop.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import warnings
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+import numpy as np
+import torch
+from torch import nn
+
+from pix2pockets.vision.train.crop_data import CROP_LABELS, CropConfig, collect_crops
+from pix2pockets.vision.yolo_data import dataset_class_map, load_split, load_splits
+
+ONNX_NAME = "ball-classifier.onnx"
+
+
+def _block(cin: int, cout: int) -> nn.Sequential:
+    return nn.Sequential(
+        nn.Conv2d(cin, cout, 3, padding=1, bias=False),
+        nn.BatchNorm2d(cout),
+        nn.ReLU(inplace=True),
+        nn.Conv2d(cout, cout, 3, padding=1, bias=False),
+        nn.BatchNorm2d(cout),
+        nn.ReLU(inplace=True),
+    )
+
+
+class CropNet(nn.Module):
+    """Logits (N, 5) for crops given as uint8-valued floats (N, 3, S, S) in RGB."""
+
+    def __init__(self, widths: tuple[int, int, int] = (16, 32, 64)) -> None:
+        super().__init__()
+        a, b, c = widths
+        self.features = nn.Sequential(_block(3, a), nn.MaxPool2d(2), _block(a, b), nn.MaxPool2d(2), _block(b, c))
+        self.fc = nn.Linear(c, len(CROP_LABELS))
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        x = x / 127.5 - 1.0
+        return self.fc(self.features(x).mean(dim=(2, 3)))
+
+
+class _Exported(nn.Module):
+    """What the ONNX file computes: uint8 crops (N, S, S, 3) -> class probabilities (N, 5)."""
+
+    def __init__(self, net: CropNet) -> None:
+        super().__init__()
+        self.net = net
+
+    def forward(self, crops: torch.Tensor) -> torch.Tensor:
+        return torch.softmax(self.net(crops.permute(0, 3, 1, 2).float()), dim=1)
+
+
+@dataclass(frozen=True, slots=True)
+class CropTrainConfig:
+    """Settings of ``pix2pockets train-ball-classifier``.
+
+    Attributes:
+        data: YOLO datasets with the five classes (positive and "no ball" crops).
+        out: output folder (``ball-classifier.onnx``, ``metrics.json``).
+        negatives: ball-only datasets (e.g. real photos): "no ball" crops only, away from their balls.
+        negatives_exclude: file-name globs left out of `negatives`.
+        epochs: passes over the crops.
+        seed: seed for crops, order, augmentation and initialisation.
+        batch: crops per step.
+        lr: peak learning rate (AdamW, cosine decay).
+        threads: torch CPU threads.
+        class_power: loss weight of a class is frequency ** -class_power (0: unweighted).
+    """
+
+    data: tuple[str, ...]
+    out: str
+    negatives: tuple[str, ...] = ()
+    negatives_exclude: tuple[str, ...] = ()
+    epochs: int = 6
+    seed: int = 0
+    batch: int = 256
+    lr: float = 3e-3
+    threads: int = 1
+    class_power: float = 0.5
+
+    def __post_init__(self) -> None:
+        if not self.data:
+            raise ValueError("train-ball-classifier needs at least one --data folder")
+        if self.epochs < 1 or self.batch < 1 or self.threads < 1 or not self.lr > 0:
+            raise ValueError("epochs, batch and threads must be >= 1 and lr > 0")
+        if not 0 <= self.class_power <= 1:
+            raise ValueError(f"class_power must be in [0, 1], got {self.class_power}")
+
+
+def _read_rgb(path: Path) -> np.ndarray:
+    import cv2
+
+    img = cv2.imread(str(path), cv2.IMREAD_COLOR)
+    if img is None:
+        raise ValueError(f"cannot read image {path}")
+    return cv2.cvtColor(img, cv2.COLOR_BGR2RGB)
+
+
+def _sources(cfg: CropTrainConfig, split: str) -> list:
+    out = []
+    for root in cfg.data:
+        cmap = dataset_class_map(root)
+        try:
+            out += [(it, cmap) for it in load_split(root, split)]
+        except ValueError:
+            if split == "train":
+                raise
+    if split == "train":
+        out += [(it, None) for it in load_splits(cfg.negatives, "train", cfg.negatives_exclude)]
+    return out
+
+
+def augment(x: torch.Tensor, gen: torch.Generator) -> torch.Tensor:
+    """Random flips, quarter turns, brightness, contrast, colour balance and noise on (N, 3, S, S) in 0-255."""
+    n = x.shape[0]
+
+    def u(lo: float, hi: float, *shape: int) -> torch.Tensor:
+        return lo + (hi - lo) * torch.rand(n, *shape, generator=gen)
+
+    if bool(torch.rand(1, generator=gen) < 0.5):
+        x = x.flip(3)
+    x = torch.rot90(x, int(torch.randint(0, 4, (1,), generator=gen)), dims=(2, 3))
+    mean = x.mean(dim=(1, 2, 3), keepdim=True)
+    x = (x - mean) * u(0.7, 1.3, 1, 1, 1) + mean * u(0.6, 1.4, 1, 1, 1)
+    x = x * u(0.9, 1.1, 3, 1, 1)
+    x = x + torch.randn(x.shape, generator=gen) * u(0, 6, 1, 1, 1)
+    return x.clamp(0, 255)
+
+
+def _confusion(model: CropNet, crops: np.ndarray, labels: np.ndarray) -> np.ndarray:
+    k = len(CROP_LABELS)
+    conf = np.zeros((k, k), dtype=int)
+    model.eval()
+    with torch.no_grad():
+        for i in range(0, len(crops), 1024):
+            x = torch.from_numpy(crops[i : i + 1024]).permute(0, 3, 1, 2).float()
+            pred = model(x).argmax(1).numpy()
+            np.add.at(conf, (labels[i : i + 1024], pred), 1)
+    return conf
+
+
+def export_crop_classifier(model: CropNet, path: Path, size: int) -> Path:
+    """Write the classifier (uint8 NHWC crops in, softmax probabilities out) as ONNX with a dynamic batch."""
+    tmp = path.with_name(path.name + ".tmp")
+    with torch.no_grad(), warnings.catch_warnings():
+        warnings.simplefilter("ignore", DeprecationWarning)
+        torch.onnx.export(
+            _Exported(model.eval()),
+            (torch.zeros(2, size, size, 3, dtype=torch.uint8),),
+            str(tmp),
+            input_names=["crops"],
+            output_names=["probs"],
+            dynamic_axes={"crops": {0: "n"}, "probs": {0: "n"}},
+            opset_version=17,
+            dynamo=False,
+        )
+    os.replace(tmp, path)
+    return path
+
+
+def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
+    """Collect crops, train, report the held-out confusion matrix in ``metrics.json``, export; returns the ONNX."""
+    from tqdm import tqdm
+
+    torch.set_num_threads(cfg.threads)
+    torch.manual_seed(cfg.seed)
+    out = Path(cfg.out)
+    out.mkdir(parents=True, exist_ok=True)
+    crops, labels = collect_crops(_sources(cfg, "train"), _read_rgb, cfg.seed, CropConfig(), progress)
+    test = _sources(cfg, "test")
+    test_crops, test_labels = (
+        collect_crops(test, _read_rgb, cfg.seed + 1, CropConfig(copies=1), progress) if test else (None, None)
+    )
+    counts = np.bincount(labels, minlength=len(CROP_LABELS)).astype(float)
+    weight = np.where(counts > 0, np.maximum(counts, 1) ** -cfg.class_power, 0.0)
+    weight = torch.tensor(weight / (weight * counts).sum() * counts.sum(), dtype=torch.float32)
+
+    model = CropNet()
+    opt = torch.optim.AdamW(model.parameters(), lr=cfg.lr, weight_decay=1e-4)
+    gen = torch.Generator().manual_seed(cfg.seed)
+    order_rng = np.random.default_rng(cfg.seed)
+    steps_per_epoch = max(1, len(crops) // cfg.batch)
+    total = steps_per_epoch * cfg.epochs
+    x_all = torch.from_numpy(crops).permute(0, 3, 1, 2)
+    y_all = torch.from_numpy(labels)
+    bar = tqdm(total=total, desc="train ball classifier", disable=not progress)
+    step = 0
+    for _epoch in range(cfg.epochs):
+        model.train()
+        order = torch.from_numpy(order_rng.permutation(len(crops)))
+        for s in range(steps_per_epoch):
+            idx = order[s * cfg.batch : (s + 1) * cfg.batch]
+            x = augment(x_all[idx].float(), gen)
+            for g in opt.param_groups:
+                g["lr"] = cfg.lr * 0.5 * (1 + math.cos(math.pi * step / total))
+            loss = nn.functional.cross_entropy(model(x), y_all[idx], weight=weight)
+            opt.zero_grad()
+            loss.backward()
+            opt.step()
+            step += 1
+            bar.update(1)
+            bar.set_postfix(loss=f"{loss.item():.3f}")
+    bar.close()
+
+    metrics = {"config": asdict(cfg), "train_counts": counts.astype(int).tolist(), "labels": list(CROP_LABELS)}
+    if test_crops is not None and len(test_crops):
+        conf = _confusion(model, test_crops, test_labels)
+        metrics["test_confusion"] = conf.tolist()
+        recall = np.round(np.diag(conf) / np.maximum(conf.sum(1), 1), 4)
+        metrics["test_recall"] = dict(zip(CROP_LABELS, recall.tolist(), strict=True))
+    (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
+    torch.save({"model": model.state_dict(), "config": asdict(cfg)}, out / "last.pt")
+    return export_crop_classifier(model, out / ONNX_NAME, crops.shape[1])

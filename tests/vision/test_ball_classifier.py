@@ -1,0 +1,66 @@
+"""The second-stage ball classifier: score fusion, and the shipped model on a fresh render."""
+
+import numpy as np
+import pytest
+
+from pix2pockets.vision.ball_classifier import BallClassifier, classified_balls, default_classifier_path
+from pix2pockets.vision.detections import Detections
+from pix2pockets.vision.postprocess import postprocess
+
+
+def _balls(n: int, conf: float = 0.9) -> Detections:
+    boxes = np.array([[10.0 + 30 * i, 10.0, 30.0 + 30 * i, 30.0] for i in range(n)]).reshape(n, 4)
+    return Detections(boxes, np.full(n, conf), np.zeros(n, int), boxes[:, :2] + [10.0, 20.0])
+
+
+def test_one_entry_per_ball_and_class_scored_by_both_stages():
+    heat = np.array([[0.8, 0.0, 0.1, 0.1]])
+    probs = np.array([[0.7, 0.0, 0.0, 0.2, 0.1]])
+    det = classified_balls(_balls(1), heat, probs, conf_threshold=0.01)
+    assert sorted(det.class_id.tolist()) == [0, 3]  # black and solid score 0
+    cue = det.confidence[det.class_id == 0][0]
+    assert cue == pytest.approx(0.9 * np.sqrt(0.7 * 0.8))
+    assert np.all(det.contact == [[20.0, 30.0], [20.0, 30.0]])
+    assert postprocess(det).class_id.tolist() == [0]
+
+
+def test_classifier_overrules_a_wrong_head_and_no_ball_lowers_every_class():
+    heat = np.array([[0.5, 0.0, 0.0, 0.5], [0.5, 0.0, 0.0, 0.5]])
+    probs = np.array([[0.05, 0.0, 0.0, 0.95, 0.0], [0.05, 0.0, 0.0, 0.15, 0.8]])
+    det = postprocess(classified_balls(_balls(2), heat, probs))
+    assert det.class_id.tolist() == [3, 3]
+    assert det.confidence[0] > 2 * det.confidence[1]
+
+
+def test_empty_and_threshold():
+    assert len(classified_balls(_balls(0), np.zeros((0, 4)), np.zeros((0, 5)))) == 0
+    det = classified_balls(_balls(1, conf=0.1), np.full((1, 4), 0.25), np.full((1, 5), 0.2), conf_threshold=0.2)
+    assert len(det) == 0
+
+
+def test_missing_or_wrong_model_is_a_clear_error(tmp_path):
+    with pytest.raises(ValueError, match="not found"):
+        BallClassifier(tmp_path / "nope.onnx")
+    bad = tmp_path / "bad.onnx"
+    bad.write_bytes(b"not a model")
+    with pytest.raises(ValueError, match="cannot load"):
+        BallClassifier(bad)
+
+
+@pytest.mark.skipif(not default_classifier_path().exists(), reason="no ball classifier committed")
+def test_shipped_classifier_tells_ball_classes_apart_on_a_fresh_render():
+    pytest.importorskip("pix2pockets.synth")
+    from pix2pockets.synth.renderer import render
+    from pix2pockets.vision.classes import CLASS_NAMES
+
+    rend = render((5151, 0), (960, 540))
+    balls = [b for b in rend.labels["balls"] if b["labelled"] and b["visible_fraction"] > 0.9]
+    if len(balls) < 4:
+        pytest.skip("render holds fewer than 4 clearly visible balls")
+    boxes = np.array([b["box_px"] for b in balls], float)
+    truth = np.array([CLASS_NAMES.index(b["class"]) for b in balls])
+    probs = BallClassifier.from_default().classify(rend.image, boxes)
+    assert probs.shape == (len(balls), 5)
+    assert np.allclose(probs.sum(axis=1), 1.0, atol=1e-4)
+    assert (probs.argmax(axis=1) == truth).mean() >= 0.6
+    assert probs[:, 4].mean() < 0.5  # balls are not read as "no ball"
