@@ -81,3 +81,31 @@ def test_detect_and_evaluate_refuse_to_overwrite_without_force(toy, tmp_path, ca
     assert "--force" in capsys.readouterr().err and out.read_text() == "keep me"
     assert main([*args, "--force"]) == 0
     assert json.loads(out.read_text())["mode"] == "classes"
+
+
+def test_train_ball_classifier_tiny_run_and_detect_with_it(toy, tmp_path):
+    pytest.importorskip("torch")
+    pytest.importorskip("onnx", reason="ONNX export needs the onnx package (train extra)")
+    out = tmp_path / "clf"
+    assert main(["train-ball-classifier", "--data", str(toy), "--out", str(out), "--epochs", "1", "--quiet"]) == 0
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert len(metrics["test_confusion"]) == 5 and sum(metrics["train_counts"]) > 0
+    image = str(next((toy / "test" / "images").iterdir()))
+    clf = str(out / "ball-classifier.onnx")
+    assert main(["detect", image, "--classifier", clf, "--json", str(tmp_path / "d.json")]) == 0
+    assert json.loads((tmp_path / "d.json").read_text())["classifier"] == clf
+    assert main(["detect", image, "--classifier", "none", "--json", str(tmp_path / "e.json")]) == 0
+    assert json.loads((tmp_path / "e.json").read_text())["classifier"] is None
+
+
+def test_detect_with_a_missing_classifier_is_a_clean_error(toy, tmp_path, capsys):
+    image = str(next((toy / "test" / "images").iterdir()))
+    rc = main(["detect", image, "--classifier", str(tmp_path / "no.onnx"), "--json", str(tmp_path / "d.json")])
+    assert rc != 0 and "ball classifier model not found" in capsys.readouterr().err
+    assert not (tmp_path / "d.json").exists()
+
+
+def test_table_class_needs_agnostic_mode(toy, tmp_path, capsys):
+    args = ["evaluate", "detector", "--data", str(toy), "--detector", "hough", "--table-class", "1"]
+    assert main([*args, "--json", str(tmp_path / "r.json"), "--quiet"]) != 0
+    assert "--agnostic" in capsys.readouterr().err

@@ -29,6 +29,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--hough-radii", default="15,30", help="hough: min ball radius, max radius px (paper 15,30)")
     parser.add_argument("--agnostic", action="store_true", help="class-agnostic ball metrics")
     parser.add_argument("--ball-classes", default="0,1,2,3", help="dataset ids that are balls (agnostic mode)")
+    parser.add_argument(
+        "--table-class",
+        type=int,
+        default=None,
+        help="agnostic mode: dataset id of a whole-table box; diamonds found outside it are counted (false)",
+    )
     parser.add_argument("--conf", type=float, default=0.25, help="confidence threshold for P/R/F1 (default 0.25)")
     parser.add_argument("--input-size", type=int, default=640, help="network input long side px (default 640)")
     parser.add_argument("--threads", type=int, default=1, help="onnxruntime threads (default 1)")
@@ -75,7 +81,17 @@ def run(args: argparse.Namespace) -> int:
         detector = OnnxDetector(model, OnnxDetectorConfig(args.input_size, 0.01, threads=args.threads), classifier)
         if classifier is not None:
             model += f" + {classifier.model_path}"
-    opts = EvalOptions(args.split, args.agnostic, ball_classes, args.conf, limit=args.limit, post=args.post)
+    if args.table_class is not None and not args.agnostic:
+        raise ValueError("--table-class works with --agnostic (ball-only photos with a table box)")
+    opts = EvalOptions(
+        args.split,
+        args.agnostic,
+        ball_classes,
+        args.conf,
+        limit=args.limit,
+        post=args.post,
+        table_class=args.table_class,
+    )
     report = evaluate_detector(detector, args.data, opts, progress=not args.quiet)
     report.update({"data": str(args.data), "model": model, "conf_threshold": args.conf})
     write_json(args.json_out, report, indent=1)

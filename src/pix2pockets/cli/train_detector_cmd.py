@@ -25,6 +25,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--balls-exclude", action="append", default=[], help="file-name glob of ball-only images to skip (repeatable)"
     )
     parser.add_argument(
+        "--balls-repeat",
+        action="store_true",
+        help="let --balls-fraction exceed the ball-only set: photos then repeat within an epoch",
+    )
+    parser.add_argument(
         "--balls-table-class",
         type=int,
         default=None,
@@ -82,6 +87,7 @@ def run(args: argparse.Namespace) -> int:
         threads=args.threads,
         limit=args.limit,
         balls_fraction=args.balls_fraction,
+        balls_repeat=args.balls_repeat,
         checkpoint_minutes=args.checkpoint_minutes,
         max_minutes=args.max_minutes,
         pretrained=not args.no_pretrained,

@@ -14,6 +14,7 @@ from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.metrics import GroundTruth, evaluate_class, evaluate_classes, mean_metrics
 from pix2pockets.vision.postprocess import DEFAULT_NMS_IOU, class_agnostic_nms, postprocess, resolve_ball_classes
+from pix2pockets.vision.table_box import inside_table_boxes
 from pix2pockets.vision.yolo_data import dataset_class_map, load_split
 
 TABLE_ORDER = (3, 2, 0, 1, 4)  # the paper's column order: stripes, solids, cue, black, dots
@@ -37,6 +38,8 @@ class EvalOptions:
         nms_iou: IoU of the post-processing NMS.
         limit: evaluate only the first ``limit`` images.
         post: the post-processing for the "after" column, a key of :data:`POSTPROCESSORS`.
+        table_class: in agnostic mode, the dataset class id of a whole-table box: diamonds found outside it
+            (widened by :data:`~pix2pockets.vision.table_box.TABLE_MARGIN`) are counted as false ("dots" in the report).
     """
 
     split: str = "test"
@@ -46,6 +49,7 @@ class EvalOptions:
     nms_iou: float = DEFAULT_NMS_IOU
     limit: int | None = None
     post: str = "paper"
+    table_class: int | None = None
 
     def __post_init__(self) -> None:
         if self.post not in POSTPROCESSORS:
@@ -63,7 +67,7 @@ def evaluate_detector(detector: Detector, root: str, options: EvalOptions | None
     opt = options or EvalOptions()
     items = load_split(root, opt.split, opt.limit)
     cmap = {} if opt.agnostic else dataset_class_map(root)
-    gts, raws, heads = [], [], []
+    gts, raws, heads, tables = [], [], [], []
     use_head = opt.agnostic and hasattr(detector, "detect_balls")
     for it in tqdm(items, disable=not progress, desc="evaluate", unit="img"):
         image = read_image_rgb(it.image_path)
@@ -73,6 +77,7 @@ def evaluate_detector(detector: Detector, root: str, options: EvalOptions | None
         else:
             keep = np.isin(it.class_id, list(cmap))
             gts.append(GroundTruth(it.boxes[keep], np.array([cmap[k] for k in it.class_id[keep]], dtype=int)))
+        tables.append(it.boxes[it.class_id == opt.table_class] if opt.table_class is not None else None)
         raws.append(detector.detect(image))
         if use_head:
             heads.append(detector.detect_balls(image))  # type: ignore[attr-defined]
@@ -82,6 +87,8 @@ def evaluate_detector(detector: Detector, root: str, options: EvalOptions | None
     if opt.agnostic:
         report["before"] = _agnostic(raws, gts, opt.conf_threshold)
         report["after"] = _agnostic(afters, gts, opt.conf_threshold)
+        if opt.table_class is not None:
+            report["dots"] = dots_off_table(afters, tables, opt.conf_threshold)
         if use_head:
             report["ball_head"] = {
                 "before": _agnostic(heads, gts, opt.conf_threshold, balls_only=False),
@@ -93,6 +100,26 @@ def evaluate_detector(detector: Detector, root: str, options: EvalOptions | None
         report[tag] = {CLASS_NAMES[k]: m.as_dict() for k, m in per.items()}
         report[tag]["average"] = {k: round(v, 4) if np.isfinite(v) else None for k, v in mean_metrics(per).items()}
     return report
+
+
+def dots_off_table(dets: Sequence[Detections], tables: Sequence[np.ndarray | None], conf: float) -> dict:
+    """Diamonds per image found on and off the (widened) table box, over images that have a table box.
+
+    With no diamond labels (ball-only photos), diamonds off the table are still certainly false.
+    """
+    on, off, n = 0, 0, 0
+    for d, boxes in zip(dets, tables, strict=True):
+        if boxes is None or not len(boxes):
+            continue
+        n += 1
+        inside = inside_table_boxes(d.centres[d.is_dot & (d.confidence >= conf)], boxes)
+        on += int(inside.sum())
+        off += int((~inside).sum())
+    return {
+        "images": n,
+        "on_table_per_image": round(on / max(n, 1), 3),
+        "off_table_per_image": round(off / max(n, 1), 3),
+    }
 
 
 def _agnostic(dets: Sequence[Detections], gts: Sequence[GroundTruth], conf: float, balls_only: bool = True) -> dict:
@@ -112,6 +139,12 @@ def format_table(report: dict) -> str:
         for name, src in sources:
             b, a = src["before"]["ball"], src["after"]["ball"]
             rows.append(f"| {name} | " + " | ".join(f"{fmt(b[k])} \\| {fmt(a[k])}" for _, k in METRIC_ROWS) + " |")
+        if "dots" in report:
+            d = report["dots"]
+            rows.append(
+                f"\nDiamonds per image (after post-processing, {d['images']} images with a table box): "
+                f"{d['on_table_per_image']:.2f} on the table, {d['off_table_per_image']:.2f} off it (false)."
+            )
         return "\n".join(rows)
     cols = [CLASS_NAMES[k] for k in TABLE_ORDER] + ["average"]
     titles = [TABLE_TITLES[k] for k in TABLE_ORDER] + ["Average"]

@@ -16,6 +16,7 @@ import numpy as np
 from pix2pockets.vision.classes import BALL_IDS
 from pix2pockets.vision.heatmap_layout import BALL_ANY, N_CLASSES, N_HEAT, STRIDE
 from pix2pockets.vision.letterbox import PAD_VALUE
+from pix2pockets.vision.table_box import TABLE_MARGIN, inside_table_boxes
 from pix2pockets.vision.yolo_data import LabelledImage
 
 MAX_OBJECTS = 96
@@ -63,21 +64,12 @@ class Sample:
     off_table: np.ndarray  # (S/4, S/4) float32, 1 outside the table box of a ball-only photo
 
 
-TABLE_MARGIN = 0.04
-"""A ball-only photo's table box is widened by this fraction of its size on each side before cells outside it
-count as off the table (hand-drawn boxes sometimes clip the far rail)."""
-
-
 def off_table_mask(table_boxes: np.ndarray, out: int, margin: float = TABLE_MARGIN) -> np.ndarray:
     """(out, out) mask: 1 for heatmap cells whose centre is outside every widened table box (boxes in crop px)."""
-    mask = np.ones((out, out), np.float32)
     centres = (np.arange(out) + 0.5) * STRIDE
-    for x0, y0, x1, y1 in np.asarray(table_boxes, float).reshape(-1, 4):
-        mx, my = margin * (x1 - x0), margin * (y1 - y0)
-        cols = (centres >= x0 - mx) & (centres <= x1 + mx)
-        rows = (centres >= y0 - my) & (centres <= y1 + my)
-        mask[np.ix_(rows, cols)] = 0
-    return mask
+    xs, ys = np.meshgrid(centres, centres)
+    inside = inside_table_boxes(np.stack([xs.ravel(), ys.ravel()], axis=1), table_boxes, margin)
+    return (~inside).reshape(out, out).astype(np.float32)
 
 
 def draw_gaussian(heat: np.ndarray, cx: int, cy: int, sigma: float) -> None:

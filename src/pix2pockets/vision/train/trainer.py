@@ -49,8 +49,10 @@ class TrainConfig:
         lr: peak AdamW learning rate (cosine decay, linear warm-up).
         threads: torch CPU threads.
         limit: use only the first ``limit`` five-class training images (training-size ablation).
-        balls_fraction: ball-only images per epoch, as a fraction of the five-class images (drawn with
-            repeats when that is more than there are).
+        balls_fraction: ball-only images per epoch, as a fraction of the five-class images (at most all of
+            them once, unless ``balls_repeat``).
+        balls_repeat: draw ball-only images with repeats when ``balls_fraction`` asks for more than there are
+            (each copy is augmented differently).
         checkpoint_minutes: save ``last.pt`` at least this often [min].
         max_minutes: stop (checkpoint + export) after this much wall time in this run [min]; 0 = no limit.
         pretrained: start the trunk from ImageNet weights.
@@ -71,6 +73,7 @@ class TrainConfig:
     threads: int = 1
     limit: int | None = None
     balls_fraction: float = 0.25
+    balls_repeat: bool = False
     checkpoint_minutes: float = 5.0
     max_minutes: float = 0.0
     pretrained: bool = True
@@ -169,8 +172,9 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
     opt = torch.optim.AdamW([p for p in model.parameters() if p.requires_grad], lr=cfg.lr, weight_decay=1e-4)
     if cfg.init and not resume:
         model.load_state_dict(torch.load(cfg.init, map_location="cpu", weights_only=False)["model"])
-    # ball-only photos per epoch; more than there are repeats some (each copy is augmented differently)
     n_balls = (round(cfg.balls_fraction * len(main)) if main else len(balls)) if balls else 0
+    if not cfg.balls_repeat:
+        n_balls = min(n_balls, len(balls))
     per_epoch = len(main) + n_balls
     steps_per_epoch = max(1, per_epoch // cfg.batch)
     total = steps_per_epoch * cfg.epochs
