@@ -1,7 +1,10 @@
-"""Detector CPU latency with onnxruntime: pre-processing + network + decoding + post-processing per image.
+"""Detector CPU latency with onnxruntime: pre-processing + network + ball classifier + decoding +
+post-processing per image, on synthetic renders of common photo sizes (640 px; 720p and 1080p frames run at
+the 1024 px default maximum input).
 
 Usage:
-    PYTHONPATH=src python benchmarks/detector.py [--model PATH] [--threads 1] [--repeats 20] [--json OUT.json]
+    PYTHONPATH=src python benchmarks/detector.py [--model PATH] [--classifier PATH|none] [--threads 1]
+        [--repeats 20] [--json OUT.json]
 """
 
 from __future__ import annotations
@@ -15,16 +18,21 @@ from pathlib import Path
 
 import numpy as np
 
-from pix2pockets.vision.onnx_detector import OnnxDetector, OnnxDetectorConfig, default_model_path
+from pix2pockets.synth.renderer import render
+from pix2pockets.vision.onnx_detector import (
+    OnnxDetector,
+    OnnxDetectorConfig,
+    classifier_from_option,
+    default_model_path,
+)
 from pix2pockets.vision.postprocess import postprocess
 
-SIZES = ((640, 360), (640, 480), (640, 640))
+SIZES = ((640, 360), (640, 480), (640, 640), (1280, 720), (1920, 1080))
 
 
 def measure(detector: OnnxDetector, size: tuple[int, int], repeats: int, seed: int = 0) -> dict:
-    """Median and p90 wall time [ms] of detect + postprocess on a random image of ``size`` (w, h)."""
-    rng = np.random.default_rng(seed)
-    image = rng.integers(0, 256, (size[1], size[0], 3), dtype=np.uint8)
+    """Median and p90 wall time [ms] of detect + postprocess on a synthetic render of ``size`` (w, h)."""
+    image = np.ascontiguousarray(render((seed, 0), size).image)
     for _ in range(3):
         postprocess(detector.detect(image))
     times = []
@@ -44,18 +52,23 @@ def measure(detector: OnnxDetector, size: tuple[int, int], repeats: int, seed: i
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--model", default=str(default_model_path()))
+    parser.add_argument("--classifier", default=None, help="ball classifier ONNX, 'none' (default: bundled)")
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--repeats", type=int, default=20)
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
-    detector = OnnxDetector(args.model, OnnxDetectorConfig(threads=args.threads))
+    classifier = classifier_from_option(args.classifier, args.threads)
+    detector = OnnxDetector(args.model, OnnxDetectorConfig(threads=args.threads), classifier)
     rows = [measure(detector, s, args.repeats) for s in SIZES]
-    print(f"model {args.model} ({Path(args.model).stat().st_size / 1e6:.1f} MB), onnxruntime threads {args.threads}")
+    clf = classifier.model_path.name if classifier else "none"
+    size_mb = Path(args.model).stat().st_size / 1e6
+    print(f"model {args.model} ({size_mb:.1f} MB), classifier {clf}, onnxruntime threads {args.threads}")
     print(f"{'image px':>10} {'median ms':>10} {'p90 ms':>8} {'min ms':>8}")
     for r in rows:
         print(f"{'x'.join(map(str, r['image_px'])):>10} {r['median_ms']:>10} {r['p90_ms']:>8} {r['min_ms']:>8}")
     if args.json:
-        out = {"model": args.model, "threads": args.threads, "machine": platform.machine(), "results": rows}
+        out = {"model": args.model, "classifier": clf, "threads": args.threads, "machine": platform.machine()}
+        out["results"] = rows
         Path(args.json).write_text(json.dumps(out, indent=1))
 
 

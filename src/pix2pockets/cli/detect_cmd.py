@@ -6,6 +6,7 @@ import argparse
 import json
 from pathlib import Path
 
+from pix2pockets.cli.detector_options import add_detector_options, detector_from_args
 from pix2pockets.cli.output import check_output, write_atomic
 
 
@@ -13,17 +14,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("detect", help="detect balls and diamonds in a photo (ONNX model, JSON out)")
     parser.add_argument("image", help="photo (JPEG, PNG, ...)")
     parser.add_argument("--json", required=True, dest="json_out", help="output JSON file")
-    parser.add_argument("--model", default=None, help="ONNX model (default: the bundled detector)")
-    parser.add_argument(
-        "--classifier",
-        default=None,
-        help="ball classifier ONNX re-scoring ball classes from full-resolution crops (default: the bundled one; "
-        "'none': the detector's own class heads)",
-    )
+    add_detector_options(parser)
     parser.add_argument("--conf", type=float, default=0.25, help="lowest confidence reported (default 0.25)")
     parser.add_argument("--nms-iou", type=float, default=0.5, help="IoU of class-agnostic NMS (default 0.5)")
-    parser.add_argument("--input-size", type=int, default=640, help="network input long side px (default 640)")
-    parser.add_argument("--threads", type=int, default=1, help="onnxruntime threads (default 1)")
     parser.add_argument(
         "--draw", default=None, help="also write the post-processed detections drawn on the image (.png or .jpg)"
     )
@@ -33,27 +26,19 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from pix2pockets.vision.image_io import read_image_rgb
-    from pix2pockets.vision.onnx_detector import (
-        OnnxDetector,
-        OnnxDetectorConfig,
-        classifier_from_option,
-        default_model_path,
-    )
     from pix2pockets.vision.postprocess import postprocess
 
     check_output(args.json_out, args.force)
     check_output(args.draw, args.force, (".png", ".jpg", ".jpeg"))
     image = read_image_rgb(args.image)
-    model = Path(args.model) if args.model else default_model_path()
-    classifier = classifier_from_option(args.classifier, args.threads)
-    detector = OnnxDetector(model, OnnxDetectorConfig(args.input_size, args.conf, threads=args.threads), classifier)
+    detector = detector_from_args(args, args.conf)
     raw = detector.detect(image)
     post = postprocess(raw, args.nms_iou)
     report = {
         "image": str(args.image),
         "size_px": [int(image.shape[1]), int(image.shape[0])],
-        "model": str(model),
-        "classifier": str(classifier.model_path) if classifier else None,
+        "model": str(detector.model_path),
+        "classifier": str(detector.classifier.model_path) if detector.classifier else None,
         "conf_threshold": args.conf,
         "before_postprocess": raw.to_list(),
         "after_postprocess": post.to_list(),

@@ -3,8 +3,8 @@
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
+from pix2pockets.cli.detector_options import add_detector_options, detector_from_args
 from pix2pockets.cli.output import check_output, write_json
 
 
@@ -18,13 +18,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--data", required=True, help="YOLO dataset folder")
     parser.add_argument("--json", required=True, dest="json_out", help="output JSON file")
     parser.add_argument("--split", default="test", help="split folder (default test)")
-    parser.add_argument("--model", default=None, help="ONNX model (default: the bundled detector)")
-    parser.add_argument(
-        "--classifier",
-        default=None,
-        help="ball classifier ONNX re-scoring ball classes from full-resolution crops (default: the bundled one; "
-        "'none': the detector's own class heads)",
-    )
+    add_detector_options(parser)
     parser.add_argument("--detector", choices=["onnx", "hough"], default="onnx", help="onnx (default) or hough")
     parser.add_argument("--hough-radii", default="15,30", help="hough: min ball radius, max radius px (paper 15,30)")
     parser.add_argument("--agnostic", action="store_true", help="class-agnostic ball metrics")
@@ -36,8 +30,6 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="agnostic mode: dataset id of a whole-table box; diamonds found outside it are counted (false)",
     )
     parser.add_argument("--conf", type=float, default=0.25, help="confidence threshold for P/R/F1 (default 0.25)")
-    parser.add_argument("--input-size", type=int, default=640, help="network input long side px (default 640)")
-    parser.add_argument("--threads", type=int, default=1, help="onnxruntime threads (default 1)")
     parser.add_argument("--limit", type=int, default=None, help="only the first N images")
     parser.add_argument(
         "--post",
@@ -69,18 +61,10 @@ def run(args: argparse.Namespace) -> int:
         detector = HoughDetector(HoughParams(min_radius_ball=r_min, max_radius=r_max), dots=not args.agnostic)
         model = "hough"
     else:
-        from pix2pockets.vision.onnx_detector import (
-            OnnxDetector,
-            OnnxDetectorConfig,
-            classifier_from_option,
-            default_model_path,
-        )
-
-        model = str(Path(args.model) if args.model else default_model_path())
-        classifier = classifier_from_option(args.classifier, args.threads)
-        detector = OnnxDetector(model, OnnxDetectorConfig(args.input_size, 0.01, threads=args.threads), classifier)
-        if classifier is not None:
-            model += f" + {classifier.model_path}"
+        detector = detector_from_args(args, 0.01)
+        model = str(detector.model_path)
+        if detector.classifier is not None:
+            model += f" + {detector.classifier.model_path}"
     if args.table_class is not None and not args.agnostic:
         raise ValueError("--table-class works with --agnostic (ball-only photos with a table box)")
     opts = EvalOptions(

@@ -21,6 +21,8 @@ from pix2pockets.vision.heatmap_layout import INPUT_MULTIPLE
 from pix2pockets.vision.letterbox import network_input
 
 DEFAULT_MODEL = "detector.onnx"
+NETWORK_MULTIPLE = 32
+"""Network inputs are padded to multiples of this [px] (the trunk's largest stride is 32)."""
 
 
 def default_model_path() -> Path:
@@ -33,24 +35,37 @@ class OnnxDetectorConfig:
     """Inference settings.
 
     Attributes:
-        input_size: long side of the network input [px].
+        input_size: long side of the network input [px] for images up to this size (smaller ones are scaled
+            up to it).
+        max_input_size: larger images run at their own long side (rounded down to a multiple of 32), up to
+            this [px]. Far balls in a 720p or 1080p frame are only 8-12 px wide at 640; at 1024 synthetic 720p
+            AP50 rises by 5-14 points per ball class (``docs/benchmarks-detector.md``), for about 2.5x the
+            time. Set it to ``input_size`` for a fixed input size.
         conf_threshold: lowest score kept in raw detections.
         max_detections: most raw detections per image.
         threads: onnxruntime intra-op threads (0 lets onnxruntime choose).
     """
 
     input_size: int = 640
+    max_input_size: int = 1024
     conf_threshold: float = 0.05
     max_detections: int = 300
     threads: int = 1
 
     def __post_init__(self) -> None:
-        if self.input_size < 64 or self.input_size % INPUT_MULTIPLE:
-            raise ValueError(f"input_size must be >= 64 and a multiple of {INPUT_MULTIPLE}, got {self.input_size}")
+        for name in ("input_size", "max_input_size"):
+            v = getattr(self, name)
+            if v < 64 or v % INPUT_MULTIPLE:
+                raise ValueError(f"{name} must be >= 64 and a multiple of {INPUT_MULTIPLE}, got {v}")
         if not 0.0 <= self.conf_threshold <= 1.0:
             raise ValueError(f"conf_threshold must be in [0, 1], got {self.conf_threshold}")
         if self.max_detections < 1 or self.threads < 0:
             raise ValueError("max_detections must be >= 1 and threads >= 0")
+
+    def long_side(self, image_long_side: int) -> int:
+        """Network input long side [px] for an image whose long side is ``image_long_side`` [px]."""
+        native = image_long_side // NETWORK_MULTIPLE * NETWORK_MULTIPLE
+        return max(self.input_size, min(native, self.max_input_size))
 
 
 class OnnxDetector:
@@ -96,7 +111,7 @@ class OnnxDetector:
         image = np.asarray(image_rgb)
         if image.dtype != np.uint8 or image.ndim != 3 or image.shape[2] != 3:
             raise ValueError(f"expected an RGB uint8 image (H, W, 3), got {image.dtype} {image.shape}")
-        x, box = network_input(image, self.config.input_size, 32)
+        x, box = network_input(image, self.config.long_side(max(image.shape[:2])), NETWORK_MULTIPLE)
         out = self.session.run(None, {self.input_name: x})[0][0]
         return out, box, (image.shape[1], image.shape[0])
 

@@ -1,0 +1,46 @@
+"""Command-line options shared by the commands that run the ONNX detector (detect, evaluate detector)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+
+def add_detector_options(parser: argparse.ArgumentParser) -> None:
+    """--model, --classifier, --input-size, --max-input-size and --threads."""
+    parser.add_argument("--model", default=None, help="ONNX model (default: the bundled detector)")
+    parser.add_argument(
+        "--classifier",
+        default=None,
+        help="ball classifier ONNX re-scoring ball classes from full-resolution crops (default: the bundled one; "
+        "'none': the detector's own class heads)",
+    )
+    parser.add_argument(
+        "--input-size", type=int, default=640, help="network input long side for images up to this size (default 640)"
+    )
+    parser.add_argument(
+        "--max-input-size",
+        type=int,
+        default=1024,
+        help="larger images run at their own long side up to this (default 1024; = --input-size for a fixed size)",
+    )
+    parser.add_argument("--threads", type=int, default=1, help="onnxruntime threads (default 1)")
+
+
+def detector_from_args(args: argparse.Namespace, conf_threshold: float):
+    """The :class:`~pix2pockets.vision.onnx_detector.OnnxDetector` the options describe."""
+    from pix2pockets.vision.onnx_detector import (
+        OnnxDetector,
+        OnnxDetectorConfig,
+        classifier_from_option,
+        default_model_path,
+    )
+
+    model = Path(args.model) if args.model else default_model_path()
+    config = OnnxDetectorConfig(
+        input_size=args.input_size,
+        max_input_size=max(args.max_input_size, args.input_size),
+        conf_threshold=conf_threshold,
+        threads=args.threads,
+    )
+    return OnnxDetector(model, config, classifier_from_option(args.classifier, args.threads))
