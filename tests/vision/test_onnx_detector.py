@@ -7,7 +7,7 @@ from pix2pockets.vision.base import Detector
 from pix2pockets.vision.onnx_detector import OnnxDetector, OnnxDetectorConfig, default_model_path
 from pix2pockets.vision.postprocess import box_iou, postprocess
 
-pytestmark = pytest.mark.skipif(
+_needs_model = pytest.mark.skipif(
     not default_model_path().exists(), reason="no trained detector committed at data/models/detector.onnx yet"
 )
 
@@ -20,12 +20,14 @@ def _render(seed, size):
     return render(seed, size)
 
 
+@_needs_model
 def test_model_loads_and_is_a_detector():
     det = OnnxDetector.from_default(OnnxDetectorConfig(threads=1))
     assert isinstance(det, Detector)
     assert len(det.detect(np.zeros((90, 160, 3), np.uint8))) < 20  # a black image holds few objects
 
 
+@_needs_model
 def test_detects_balls_on_fresh_render():
     pytest.importorskip("pix2pockets.synth")
     rend = _render((4242, 0), (640, 360))
@@ -40,3 +42,12 @@ def test_detects_balls_on_fresh_render():
     assert hit.mean() >= 0.6, f"found {hit.sum()} of {len(gt)} balls"
     ok = np.isfinite(found.contact).all(axis=1)
     assert ok.any()
+
+
+def test_input_size_follows_the_photo_up_to_the_maximum():
+    cfg = OnnxDetectorConfig()
+    assert [cfg.long_side(n) for n in (300, 640, 800, 1000, 1280, 1920)] == [640, 640, 800, 992, 1024, 1024]
+    fixed = OnnxDetectorConfig(input_size=640, max_input_size=640)
+    assert fixed.long_side(1920) == 640
+    with pytest.raises(ValueError, match="max_input_size"):
+        OnnxDetectorConfig(max_input_size=1000)
