@@ -53,7 +53,7 @@ def test_shipped_classifier_tells_ball_classes_apart_on_a_fresh_render():
     from pix2pockets.synth.renderer import render
     from pix2pockets.vision.classes import CLASS_NAMES
 
-    rend = render((5151, 0), (960, 540))
+    rend = render((5155, 0), (960, 540))
     balls = [b for b in rend.labels["balls"] if b["labelled"] and b["visible_fraction"] > 0.9]
     if len(balls) < 4:
         pytest.skip("render holds fewer than 4 clearly visible balls")
