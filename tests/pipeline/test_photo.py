@@ -98,3 +98,13 @@ def test_power_levels():
     assert power_level(8.0) == 30
     assert power_level(100.0) == 30
     assert 1 < power_level(3.0) < 30
+
+
+def test_clean_detections_keeps_a_ball_that_lost_the_cue():
+    from pix2pockets.pipeline.photo import clean_detections
+    from pix2pockets.vision.detections import Detections
+
+    boxes = np.array([[0, 0, 10, 10], [0.5, 0, 10.5, 10], [100, 0, 110, 10], [100.5, 0, 110.5, 10.0]])
+    raw = Detections(boxes, np.array([0.36, 0.05, 0.45, 0.18]), np.array([0, 3, 0, 3]))
+    out = clean_detections(raw)
+    assert sorted(out.class_id.tolist()) == [0, 3]  # the stripe scores 0.18 as a stripe but 0.45 as a ball

@@ -109,3 +109,21 @@ def test_resolve_passes_dots_and_handles_no_balls():
     dots = Detections(np.array([_ball(0), _ball(50)]), np.array([0.9, 0.8]), np.array([4, 4]))
     assert resolve_ball_classes(dots).class_id.tolist() == [4, 4]
     assert len(resolve_ball_classes(Detections.empty())) == 0
+
+
+def test_resolve_gives_cue_by_class_evidence_not_by_detection_confidence():
+    # ball A: half hidden by the cue stick, found with 0.36, all of it cue; ball B: an open stripe seen from its
+    # white pole, found with 0.45 as cue but with a real stripe score too
+    boxes = np.array([_ball(0), _ball(0.5), _ball(100), _ball(100.5)])
+    det = Detections(boxes, np.array([0.36, 0.05, 0.45, 0.18]), np.array([0, 3, 0, 3]))
+    out = resolve_ball_classes(det)
+    assert out.class_id[np.argmin(out.boxes[:, 0])] == 0
+    assert out.class_id[np.argmax(out.boxes[:, 0])] == 3
+
+
+def test_a_doubtful_ball_claims_the_cue_only_when_no_sure_ball_does():
+    det = Detections(np.array([_ball(0), _ball(100)]), np.array([0.2, 0.9]), np.array([0, 2]))
+    assert resolve_ball_classes(det).class_id.tolist().count(0) == 1
+    sure = Detections(np.array([_ball(0), _ball(100), _ball(100.5)]), np.array([0.2, 0.5, 0.4]), np.array([0, 0, 3]))
+    out = resolve_ball_classes(sure)
+    assert out.class_id[np.argmax(out.boxes[:, 0])] == 0  # the sure ball (0.5 cue vs 0.4 stripe) wins

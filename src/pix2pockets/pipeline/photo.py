@@ -24,7 +24,7 @@ from pix2pockets.vision.base import Detector
 from pix2pockets.vision.classes import CLASS_NAMES
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.postprocess import resolve_ball_classes
+from pix2pockets.vision.postprocess import DEFAULT_NMS_IOU, box_iou, resolve_ball_classes
 from pix2pockets.vision.rail_height import refine_fit_height
 from pix2pockets.vision.table_fit import fit_table
 
@@ -68,11 +68,20 @@ def load_image(image: str | Path | np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(rgb)
 
 
-def clean_detections(det: Detections) -> Detections:
-    """Post-process raw detections (class-aware grouping, NMS, caps), then per-class confidence thresholds."""
-    det = resolve_ball_classes(det)
-    keep = det.confidence >= MIN_CONFIDENCE[det.class_id]
-    return det[keep]
+def clean_detections(raw: Detections) -> Detections:
+    """Post-process raw detections (class-aware grouping, NMS, caps), then per-class confidence thresholds.
+
+    A ball is kept by its best raw score of any class: a ball that lost the cue to a surer ball keeps a low
+    stripe score, but it is still a ball on the table (and an obstacle to plan around).
+    """
+    det = resolve_ball_classes(raw)
+    score = det.confidence
+    balls = raw[raw.is_ball]
+    if len(det) and len(balls):
+        overlap = box_iou(det.boxes, balls.boxes) >= DEFAULT_NMS_IOU
+        best_raw = np.where(overlap, balls.confidence[None, :], 0.0).max(axis=1)
+        score = np.where(det.is_ball, np.maximum(score, best_raw), score)
+    return det[score >= MIN_CONFIDENCE[det.class_id]]
 
 
 def suggest(
