@@ -6,15 +6,20 @@ import argparse
 from pathlib import Path
 
 
-def add_detector_options(parser: argparse.ArgumentParser) -> None:
-    """--model, --classifier, --input-size, --max-input-size and --threads."""
-    parser.add_argument("--model", default=None, help="ONNX model (default: the bundled detector)")
+def add_model_options(parser: argparse.ArgumentParser) -> None:
+    """--model and --classifier."""
+    parser.add_argument("--model", default=None, help="detector ONNX model (default: the bundled one)")
     parser.add_argument(
         "--classifier",
         default=None,
         help="ball classifier ONNX re-scoring ball classes from full-resolution crops (default: the bundled one; "
         "'none': the detector's own class heads)",
     )
+
+
+def add_detector_options(parser: argparse.ArgumentParser) -> None:
+    """--model, --classifier, --input-size, --max-input-size and --threads."""
+    add_model_options(parser)
     parser.add_argument(
         "--input-size", type=int, default=640, help="network input long side for images up to this size (default 640)"
     )
@@ -44,3 +49,12 @@ def detector_from_args(args: argparse.Namespace, conf_threshold: float):
         threads=args.threads,
     )
     return OnnxDetector(model, config, classifier_from_option(args.classifier, args.threads))
+
+
+def chosen_detector(args: argparse.Namespace):
+    """The detector ``--model`` / ``--classifier`` ask for, or None when neither is given (use the default)."""
+    if not (args.model or args.classifier):
+        return None
+    from pix2pockets.vision.onnx_detector import OnnxDetector, classifier_from_option, default_model_path
+
+    return OnnxDetector(args.model or default_model_path(), classifier=classifier_from_option(args.classifier))

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 import importlib.util
 
+from pix2pockets.cli.detector_options import add_model_options, chosen_detector
+
 # (import name(s), package on PyPI) of the ``web`` extra
 WEB_PACKAGES = (
     (("fastapi",), "fastapi"),
@@ -27,13 +29,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("--host", default="127.0.0.1", help="address to listen on (default: 127.0.0.1)")
     parser.add_argument("--port", type=int, default=8000, help="port to listen on (default: 8000)")
-    parser.add_argument("--model", help="detector ONNX model (default: the bundled one)")
-    parser.add_argument(
-        "--classifier",
-        default=None,
-        help="ball classifier ONNX re-scoring ball classes from full-resolution crops (default: the bundled one; "
-        "'none': the detector's own class heads)",
-    )
+    add_model_options(parser)
     parser.add_argument("--max-upload-mb", type=float, default=20.0, help="largest upload [MB] (default: 20)")
     parser.set_defaults(func=run)
 
@@ -53,12 +49,7 @@ def run(args: argparse.Namespace) -> int:
     from pix2pockets.web.app import create_app
 
     # load the model and the planner now: a broken build fails here with one line, not on the first upload
-    if args.model or args.classifier:
-        from pix2pockets.vision.onnx_detector import OnnxDetector, classifier_from_option, default_model_path
-
-        detector = OnnxDetector(args.model or default_model_path(), classifier=classifier_from_option(args.classifier))
-    else:
-        detector = default_detector()
+    detector = chosen_detector(args) or default_detector()
     app = create_app(detector, default_planner(), max_upload_bytes=int(args.max_upload_mb * 1e6))
     print(f"pix2pockets web page: http://{args.host}:{args.port}/ (Ctrl+C to stop)", flush=True)
     uvicorn.run(app, host=args.host, port=args.port, log_level="info")

@@ -7,6 +7,7 @@ import json
 from importlib import resources
 from pathlib import Path
 
+from pix2pockets.cli.detector_options import add_model_options, chosen_detector
 from pix2pockets.cli.output import check_output, write_atomic
 
 EXAMPLE_PHOTO = "table_example.jpg"
@@ -31,13 +32,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("--out", help="write the result picture here (.png or .jpg)")
     parser.add_argument("--json", dest="json_out", help="write the result as JSON here ('-' for stdout)")
-    parser.add_argument("--model", help="detector ONNX model (default: the bundled one)")
-    parser.add_argument(
-        "--classifier",
-        default=None,
-        help="ball classifier ONNX re-scoring ball classes from full-resolution crops (default: the bundled one; "
-        "'none': the detector's own class heads)",
-    )
+    add_model_options(parser)
     parser.add_argument(
         "--time-budget",
         type=float,
@@ -82,11 +77,7 @@ def run(args: argparse.Namespace) -> int:
     from pix2pockets.pipeline.draw import encode_picture, render_result
     from pix2pockets.pipeline.photo import load_image, suggest
 
-    detector = None
-    if args.model or args.classifier:
-        from pix2pockets.vision.onnx_detector import OnnxDetector, classifier_from_option, default_model_path
-
-        detector = OnnxDetector(args.model or default_model_path(), classifier=classifier_from_option(args.classifier))
+    detector = chosen_detector(args)  # None: the pipeline's default
     if args.time_budget is not None and not args.time_budget > 0:
         raise ValueError(f"--time-budget must be a positive number of seconds, got {args.time_budget}")
     planner = None  # the pipeline's default planner

@@ -15,6 +15,7 @@ import numpy as np
 from pix2pockets.vision.ball_crops import CROP_SIZE, ball_diameters, crop_balls
 from pix2pockets.vision.classes import BALL_IDS
 from pix2pockets.vision.detections import Detections
+from pix2pockets.vision.onnx_session import open_session
 
 DEFAULT_CLASSIFIER = "ball-classifier.onnx"
 N_OUTPUTS = 5
@@ -38,19 +39,8 @@ class BallClassifier:
     """
 
     def __init__(self, model_path: str | Path, threads: int = 1) -> None:
-        import onnxruntime as ort
-
         path = Path(model_path)
-        if not path.is_file():
-            raise ValueError(f"ball classifier model not found: {path}")
-        opts = ort.SessionOptions()
-        opts.intra_op_num_threads = threads
-        opts.inter_op_num_threads = 1
-        opts.log_severity_level = 3
-        try:
-            self.session = ort.InferenceSession(str(path), opts, providers=["CPUExecutionProvider"])
-        except Exception as err:  # onnxruntime raises its own exception types
-            raise ValueError(f"cannot load ball classifier {path}: {err}") from err
+        self.session = open_session(path, threads, "ball classifier model")
         shape = self.session.get_inputs()[0].shape
         if len(shape) != 4 or shape[1:] != [CROP_SIZE, CROP_SIZE, 3]:
             raise ValueError(f"{path} is not a ball classifier: input shape {shape}")

@@ -19,6 +19,7 @@ from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.heatmap_decode import decode_ball_peaks, decode_peaks
 from pix2pockets.vision.heatmap_layout import INPUT_MULTIPLE
 from pix2pockets.vision.letterbox import network_input
+from pix2pockets.vision.onnx_session import open_session
 
 DEFAULT_MODEL = "detector.onnx"
 NETWORK_MULTIPLE = 32
@@ -84,23 +85,11 @@ class OnnxDetector:
     def __init__(
         self, model_path: str | Path, config: OnnxDetectorConfig | None = None, classifier: BallClassifier | None = None
     ) -> None:
-        import onnxruntime as ort
-
         self.config = config or OnnxDetectorConfig()
         self.classifier = classifier
-        path = Path(model_path)
-        if not path.is_file():
-            raise ValueError(f"detector model not found: {path}")
-        opts = ort.SessionOptions()
-        opts.intra_op_num_threads = self.config.threads
-        opts.inter_op_num_threads = 1
-        opts.log_severity_level = 3
-        try:
-            self.session = ort.InferenceSession(str(path), opts, providers=["CPUExecutionProvider"])
-        except Exception as err:  # onnxruntime raises its own exception types
-            raise ValueError(f"cannot load detector model {path}: {err}") from err
+        self.session = open_session(model_path, self.config.threads, "detector model")
         self.input_name = self.session.get_inputs()[0].name
-        self.model_path = path
+        self.model_path = Path(model_path)
 
     @classmethod
     def from_default(cls, config: OnnxDetectorConfig | None = None) -> OnnxDetector:

@@ -8,8 +8,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
-import warnings
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -17,7 +15,9 @@ import numpy as np
 import torch
 from torch import nn
 
+from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.train.crop_data import CROP_LABELS, CropConfig, collect_crops
+from pix2pockets.vision.train.onnx_export import write_onnx
 from pix2pockets.vision.yolo_data import dataset_class_map, load_split, load_splits
 
 ONNX_NAME = "ball-classifier.onnx"
@@ -96,15 +96,6 @@ class CropTrainConfig:
             raise ValueError(f"class_power must be in [0, 1], got {self.class_power}")
 
 
-def _read_rgb(path: Path) -> np.ndarray:
-    import cv2
-
-    img = cv2.imread(str(path), cv2.IMREAD_COLOR)
-    if img is None:
-        raise ValueError(f"cannot read image {path}")
-    return cv2.cvtColor(img, cv2.COLOR_BGR2RGB)
-
-
 def _sources(cfg: CropTrainConfig, split: str) -> list:
     out = []
     for root in cfg.data:
@@ -150,21 +141,8 @@ def _confusion(model: CropNet, crops: np.ndarray, labels: np.ndarray) -> np.ndar
 
 def export_crop_classifier(model: CropNet, path: Path, size: int) -> Path:
     """Write the classifier (uint8 NHWC crops in, softmax probabilities out) as ONNX with a dynamic batch."""
-    tmp = path.with_name(path.name + ".tmp")
-    with torch.no_grad(), warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)
-        torch.onnx.export(
-            _Exported(model.eval()),
-            (torch.zeros(2, size, size, 3, dtype=torch.uint8),),
-            str(tmp),
-            input_names=["crops"],
-            output_names=["probs"],
-            dynamic_axes={"crops": {0: "n"}, "probs": {0: "n"}},
-            opset_version=17,
-            dynamo=False,
-        )
-    os.replace(tmp, path)
-    return path
+    example = torch.zeros(2, size, size, 3, dtype=torch.uint8)
+    return write_onnx(_Exported(model), example, path, "crops", "probs", {"crops": {0: "n"}, "probs": {0: "n"}})
 
 
 def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
@@ -175,10 +153,10 @@ def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
     torch.manual_seed(cfg.seed)
     out = Path(cfg.out)
     out.mkdir(parents=True, exist_ok=True)
-    crops, labels = collect_crops(_sources(cfg, "train"), _read_rgb, cfg.seed, CropConfig(), progress)
+    crops, labels = collect_crops(_sources(cfg, "train"), read_image_rgb, cfg.seed, CropConfig(), progress)
     test = _sources(cfg, "test")
     test_crops, test_labels = (
-        collect_crops(test, _read_rgb, cfg.seed + 1, CropConfig(copies=1), progress) if test else (None, None)
+        collect_crops(test, read_image_rgb, cfg.seed + 1, CropConfig(copies=1), progress) if test else (None, None)
     )
     counts = np.bincount(labels, minlength=len(CROP_LABELS)).astype(float)
     weight = np.where(counts > 0, np.maximum(counts, 1) ** -cfg.class_power, 0.0)

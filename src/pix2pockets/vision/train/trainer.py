@@ -12,7 +12,6 @@ import json
 import math
 import os
 import time
-import warnings
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
@@ -23,6 +22,7 @@ from tqdm import tqdm
 
 from pix2pockets.vision.train.loss import detector_loss
 from pix2pockets.vision.train.model import CenterNet, ExportWrapper
+from pix2pockets.vision.train.onnx_export import write_onnx
 from pix2pockets.vision.train.targets import AugmentConfig, make_sample
 from pix2pockets.vision.yolo_data import LabelledImage, dataset_class_map, load_split, load_splits
 
@@ -130,23 +130,8 @@ def _save(path: Path, state: dict) -> None:
 
 def export_onnx(model: CenterNet, path: Path, example_hw: tuple[int, int] = (384, 640)) -> Path:
     """Write the model (sigmoid + peak isolation included) as ONNX with dynamic height and width."""
-    wrapper = ExportWrapper(model).eval()
-    x = torch.zeros(1, 3, *example_hw)
-    tmp = path.with_name(path.name + ".tmp")
-    with torch.no_grad(), warnings.catch_warnings():
-        warnings.simplefilter("ignore", DeprecationWarning)  # the TorchScript exporter needs no onnxscript
-        torch.onnx.export(
-            wrapper,
-            (x,),
-            str(tmp),
-            input_names=["image"],
-            output_names=["out"],
-            dynamic_axes={"image": {0: "n", 2: "h", 3: "w"}, "out": {0: "n", 2: "h4", 3: "w4"}},
-            opset_version=17,
-            dynamo=False,
-        )
-    os.replace(tmp, path)
-    return path
+    axes = {"image": {0: "n", 2: "h", 3: "w"}, "out": {0: "n", 2: "h4", 3: "w4"}}
+    return write_onnx(ExportWrapper(model), torch.zeros(1, 3, *example_hw), path, "image", "out", axes)
 
 
 def export_checkpoint(checkpoint: str | Path, onnx_path: str | Path) -> Path:
