@@ -44,7 +44,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--checkpoint-minutes", type=float, default=5.0, help="checkpoint interval (default 5)")
     parser.add_argument("--max-minutes", type=float, default=0.0, help="stop, checkpoint and export after this")
     parser.add_argument("--no-pretrained", action="store_true", help="random trunk init (no ImageNet weights)")
-    parser.add_argument("--init", default=None, help="start from the weights of this checkpoint (last.pt)")
+    parser.add_argument(
+        "--init",
+        default=None,
+        help="start from these weights: a checkpoint (last.pt) or a fp32 detector .onnx, e.g. the shipped one",
+    )
     parser.add_argument(
         "--export-only", action="store_true", help="only export OUT/last.pt to OUT/detector.onnx (no training)"
     )

@@ -142,6 +142,43 @@ def export_checkpoint(checkpoint: str | Path, onnx_path: str | Path) -> Path:
     return export_onnx(model.eval(), Path(onnx_path))
 
 
+INIT_CALIBRATION_IMAGES = 16
+
+
+def _load_init(
+    model: CenterNet,
+    cfg: TrainConfig,
+    main: list[tuple[LabelledImage, dict[int, int]]],
+    balls: list[LabelledImage],
+) -> None:
+    """Start from ``cfg.init``: a ``last.pt`` checkpoint, or a fp32 detector ONNX file (e.g. the shipped one)."""
+    init = Path(cfg.init)
+    if not init.is_file():
+        raise ValueError(f"--init: no file {init}")
+    if init.suffix != ".onnx":
+        model.load_state_dict(torch.load(init, map_location="cpu", weights_only=False)["model"])
+        return
+    from pix2pockets.vision.train.onnx_import import load_onnx_into
+
+    # batch-norm statistics are measured on training crops drawn like the first steps' (own seed stream)
+    items = [(it, cmap) for it, cmap in main] + [(it, None) for it in balls]
+    rng = np.random.default_rng((cfg.seed, -1))
+    picks = rng.permutation(len(items))[:INIT_CALIBRATION_IMAGES]
+    crops = []
+    for j in picks:
+        it, cmap = items[int(j)]
+        sample = make_sample(
+            _read_rgb(it.image_path),
+            it,
+            {cfg.balls_class: 0} if cmap is None else cmap,
+            cmap is None,
+            cfg.augment,
+            np.random.default_rng((cfg.seed, -1, int(j))),
+        )
+        crops.append(sample.image)
+    load_onnx_into(model, init, torch.from_numpy(np.stack(crops)))
+
+
 def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path:
     """Train (or resume) and export; returns the ONNX path.
 
@@ -156,7 +193,7 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
     model = CenterNet(pretrained=cfg.pretrained)
     opt = torch.optim.AdamW([p for p in model.parameters() if p.requires_grad], lr=cfg.lr, weight_decay=1e-4)
     if cfg.init and not resume:
-        model.load_state_dict(torch.load(cfg.init, map_location="cpu", weights_only=False)["model"])
+        _load_init(model, cfg, main, balls)
     n_balls = (round(cfg.balls_fraction * len(main)) if main else len(balls)) if balls else 0
     if not cfg.balls_repeat:
         n_balls = min(n_balls, len(balls))
