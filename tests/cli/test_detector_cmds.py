@@ -73,6 +73,45 @@ def test_train_detector_tiny_run_writes_onnx_and_resumes(toy, tmp_path):
     assert rc == 0 and "after_postprocess" in json.loads((tmp_path / "d.json").read_text())
 
 
+def test_train_detector_continues_from_the_shipped_onnx(toy, tmp_path):
+    pytest.importorskip("torch")
+    pytest.importorskip("onnx", reason="reading ONNX weights needs the onnx package (train extra)")
+    from pix2pockets.vision.onnx_detector import default_model_path
+
+    out = tmp_path / "run"
+    args = ["train-detector", "--data", str(toy), "--out", str(out), "--epochs", "1", "--batch", "2", "--crop", "64"]
+    args += ["--no-pretrained", "--quiet", "--regress-neighbours", "--lr", "1e-9", "--init", str(default_model_path())]
+    assert main(args) == 0
+    meta = json.loads((out / "detector.json").read_text())
+    assert meta["config"]["augment"]["neighbour_regression"] is True
+    # at a vanishing learning rate the exported model still finds what the shipped one finds
+    image = str(next((toy / "test" / "images").iterdir()))
+    found = []
+    for model in (default_model_path(), out / "detector.onnx"):
+        rc = main(
+            [
+                "detect",
+                image,
+                "--model",
+                str(model),
+                "--classifier",
+                "none",
+                "--json",
+                str(tmp_path / "d.json"),
+                "--force",
+            ]
+        )
+        assert rc == 0
+        found.append(len(json.loads((tmp_path / "d.json").read_text())["after_postprocess"]))
+    assert found[0] > 0 and abs(found[0] - found[1]) <= max(2, found[0] // 5)
+
+
+def test_train_detector_init_must_exist(toy, tmp_path, capsys):
+    args = ["train-detector", "--data", str(toy), "--out", str(tmp_path / "r"), "--init", str(tmp_path / "no.onnx")]
+    assert main([*args, "--no-pretrained", "--quiet"]) == 2
+    assert "no.onnx" in capsys.readouterr().err
+
+
 def test_detect_and_evaluate_refuse_to_overwrite_without_force(toy, tmp_path, capsys):
     out = tmp_path / "e.json"
     out.write_text("keep me")

@@ -52,3 +52,43 @@ def test_ball_only_photo_with_a_table_box_supervises_diamonds_off_the_table():
     assert with_table.off_table[5, 5] == 1 and with_table.off_table[150, 150] == 1
     without = make_sample(image, item, {0: 0}, True, cfg, np.random.default_rng(0))
     assert without.off_table.sum() == 0
+
+
+def test_neighbour_cells_regress_the_same_centre():
+    cfg = AugmentConfig(crop=640, scale_range=(1.0, 1.0), flip=False, colour=0.0, neighbour_regression=True)
+    image = np.zeros((480, 640, 3), np.uint8)
+    s = make_sample(image, _item(), {k: k for k in range(5)}, False, cfg, np.random.default_rng(0))
+    n = int(s.reg_mask.sum())
+    assert n == 3 + 3 * 8  # three far-apart objects own all their eight neighbours
+    out = 640 // 4
+    cells = np.stack([s.index[:n] % out, s.index[:n] // out], axis=1)
+    centres = cells + s.offset[:n]
+    # every entry points at one of the three object centres (cells), centre entries first
+    truth = centres[:3]
+    nearest = np.min(np.linalg.norm(centres[:, None] - truth[None], axis=2), axis=1)
+    assert np.all(nearest < 1e-5)
+    assert np.all(np.abs(s.offset[3:n]) <= 2.0) and np.all(np.abs(s.offset[:3]) < 1.0)
+    # the class is taught at the centres only; sizes repeat at the neighbours
+    assert np.all(s.ball_class[3:] == -1)
+    assert np.all(np.isin(s.size[3:n].round(4), s.size[:3].round(4)))
+
+
+def test_touching_objects_split_their_neighbour_cells():
+    cfg = AugmentConfig(crop=640, scale_range=(1.0, 1.0), flip=False, colour=0.0, neighbour_regression=True)
+    boxes = np.array([[100.0, 100.0, 110.0, 110.0], [110.0, 100.0, 120.0, 110.0]])  # centres 2.5 cells apart
+    item = LabelledImage(Path("x.png"), boxes, np.array([2, 3]), np.full((2, 2), np.nan), (640, 480))
+    s = make_sample(
+        np.zeros((480, 640, 3), np.uint8), item, {k: k for k in range(5)}, False, cfg, np.random.default_rng(0)
+    )
+    n = int(s.reg_mask.sum())
+    cells = s.index[:n]
+    assert len(set(cells.tolist())) == n  # no cell gets two targets
+    assert 2 < n < 2 + 16
+
+
+def test_without_neighbour_regression_only_centres_are_regressed():
+    cfg = AugmentConfig(crop=640, scale_range=(1.0, 1.0), flip=False, colour=0.0)
+    s = make_sample(
+        np.zeros((480, 640, 3), np.uint8), _item(), {k: k for k in range(5)}, False, cfg, np.random.default_rng(0)
+    )
+    assert s.reg_mask.sum() == 3

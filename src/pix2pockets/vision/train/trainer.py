@@ -143,6 +143,8 @@ def export_checkpoint(checkpoint: str | Path, onnx_path: str | Path) -> Path:
 
 
 INIT_CALIBRATION_IMAGES = 16
+INIT_CALIBRATION_STREAM = 1 << 30
+"""Seed-sequence key of the calibration crops (apart from the epochs' keys)."""
 
 
 def _load_init(
@@ -162,7 +164,7 @@ def _load_init(
 
     # batch-norm statistics are measured on training crops drawn like the first steps' (own seed stream)
     items = [(it, cmap) for it, cmap in main] + [(it, None) for it in balls]
-    rng = np.random.default_rng((cfg.seed, -1))
+    rng = np.random.default_rng((cfg.seed, INIT_CALIBRATION_STREAM))
     picks = rng.permutation(len(items))[:INIT_CALIBRATION_IMAGES]
     crops = []
     for j in picks:
@@ -173,7 +175,7 @@ def _load_init(
             {cfg.balls_class: 0} if cmap is None else cmap,
             cmap is None,
             cfg.augment,
-            np.random.default_rng((cfg.seed, -1, int(j))),
+            np.random.default_rng((cfg.seed, INIT_CALIBRATION_STREAM, int(j))),
         )
         crops.append(sample.image)
     load_onnx_into(model, init, torch.from_numpy(np.stack(crops)))
@@ -207,6 +209,8 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
             raise ValueError(f"--resume: no checkpoint {ckpt}")
         state = torch.load(ckpt, map_location="cpu", weights_only=False)
         old = dict(state["config"])
+        # settings added later: a checkpoint without them was trained with their defaults
+        old["augment"] = {**_comparable(TrainConfig(data=cfg.data, out=cfg.out))["augment"], **old.get("augment", {})}
         new = _comparable(cfg)
         changed = [
             k
