@@ -137,6 +137,16 @@ def test_train_ball_classifier_tiny_run_and_detect_with_it(toy, tmp_path):
     assert json.loads((tmp_path / "e.json").read_text())["classifier"] is None
 
 
+def test_train_ball_classifier_widths(toy, tmp_path, capsys):
+    pytest.importorskip("torch")
+    pytest.importorskip("onnx", reason="ONNX export needs the onnx package (train extra)")
+    args = ["train-ball-classifier", "--data", str(toy), "--epochs", "1", "--quiet"]
+    assert main([*args, "--out", str(tmp_path / "a"), "--widths", "8,8,8"]) == 0
+    assert json.loads((tmp_path / "a" / "metrics.json").read_text())["config"]["widths"] == [8, 8, 8]
+    assert main([*args, "--out", str(tmp_path / "b"), "--widths", "8,8"]) == 2
+    assert "three" in capsys.readouterr().err and not (tmp_path / "b").exists()
+
+
 def test_detect_with_a_missing_classifier_is_a_clean_error(toy, tmp_path, capsys):
     image = str(next((toy / "test" / "images").iterdir()))
     rc = main(["detect", image, "--classifier", str(tmp_path / "no.onnx"), "--json", str(tmp_path / "d.json")])

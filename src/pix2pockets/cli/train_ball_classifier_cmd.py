@@ -22,6 +22,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--batch", type=int, default=256, help="crops per step (default 256)")
     parser.add_argument("--lr", type=float, default=3e-3, help="peak learning rate (default 3e-3)")
     parser.add_argument("--threads", type=int, default=1, help="torch CPU threads (default 1)")
+    parser.add_argument("--widths", default="16,32,64", help="channels of the three network stages (default 16,32,64)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
@@ -41,6 +42,17 @@ def run(args: argparse.Namespace) -> int:
         batch=args.batch,
         lr=args.lr,
         threads=args.threads,
+        widths=_widths(args.widths),
     )
     print(f"wrote {train_crop_classifier(cfg, progress=not args.quiet)}")
     return 0
+
+
+def _widths(text: str) -> tuple[int, int, int]:
+    try:
+        widths = tuple(int(v) for v in text.split(","))
+    except ValueError:
+        widths = ()
+    if len(widths) != 3:
+        raise ValueError(f"--widths needs three comma-separated channel counts like 24,48,96, got {text!r}")
+    return widths  # type: ignore[return-value]

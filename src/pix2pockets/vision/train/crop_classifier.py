@@ -74,6 +74,7 @@ class CropTrainConfig:
         lr: peak learning rate (AdamW, cosine decay).
         threads: torch CPU threads.
         class_power: loss weight of a class is frequency ** -class_power (0: unweighted).
+        widths: channels of the network's three stages.
     """
 
     data: tuple[str, ...]
@@ -86,6 +87,7 @@ class CropTrainConfig:
     lr: float = 3e-3
     threads: int = 1
     class_power: float = 0.5
+    widths: tuple[int, int, int] = (16, 32, 64)
 
     def __post_init__(self) -> None:
         if not self.data:
@@ -94,6 +96,8 @@ class CropTrainConfig:
             raise ValueError("epochs, batch and threads must be >= 1 and lr > 0")
         if not 0 <= self.class_power <= 1:
             raise ValueError(f"class_power must be in [0, 1], got {self.class_power}")
+        if len(self.widths) != 3 or min(self.widths) < 1:
+            raise ValueError(f"widths must be three positive channel counts, got {self.widths}")
 
 
 def _sources(cfg: CropTrainConfig, split: str) -> list:
@@ -162,7 +166,7 @@ def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
     weight = np.where(counts > 0, np.maximum(counts, 1) ** -cfg.class_power, 0.0)
     weight = torch.tensor(weight / (weight * counts).sum() * counts.sum(), dtype=torch.float32)
 
-    model = CropNet()
+    model = CropNet(tuple(cfg.widths))
     opt = torch.optim.AdamW(model.parameters(), lr=cfg.lr, weight_decay=1e-4)
     gen = torch.Generator().manual_seed(cfg.seed)
     order_rng = np.random.default_rng(cfg.seed)
