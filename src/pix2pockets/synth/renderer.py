@@ -255,6 +255,19 @@ def _spec(rng: np.random.Generator) -> TableSpec:
     return TABLE_PRESETS[keys[int(rng.choice(len(keys), p=p / p.sum()))]]
 
 
+def _scene_and_streams(seed: Seed) -> tuple[Scene, str, np.random.Generator, np.random.Generator]:
+    """The scene of ``seed``, its layout mode, and the camera and effects streams that follow it."""
+    r_layout, r_scene, r_cam, r_fx = _streams(seed, 4)
+    spec = _spec(r_layout)
+    layout, mode = sample_layout(r_layout, spec)
+    return sample_scene(r_scene, layout), mode, r_cam, r_fx
+
+
+def scene_of(seed: Seed) -> Scene:
+    """The 3-D scene (layout, ball rotations, materials) that :func:`render` draws for ``seed``, unrendered."""
+    return _scene_and_streams(seed)[0]
+
+
 def render(seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, camera_kind: str | None = None) -> Render:
     """Render the sample of ``seed`` (same seed -> identical pixels and labels).
 
@@ -263,11 +276,8 @@ def render(seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, camera_kind: str | 
         size: (width, height) [px].
         camera_kind: force a camera kind (see ``cameras.CAMERA_KINDS``); random when ``None``.
     """
-    r_layout, r_scene, r_cam, r_fx = _streams(seed, 4)
-    spec = _spec(r_layout)
-    layout, mode = sample_layout(r_layout, spec)
-    scene = sample_scene(r_scene, layout)
-    cam, kind = sample_camera(r_cam, spec, size, camera_kind, scene.floor_z, scene.rail_width)
+    scene, mode, r_cam, r_fx = _scene_and_streams(seed)
+    cam, kind = sample_camera(r_cam, scene.spec, size, camera_kind, scene.floor_z, scene.rail_width)
     if r_cam.random() < STRETCH_PROBABILITY:
         cam = stretch_pixels(cam, float(np.exp(r_cam.uniform(np.log(0.75), np.log(1.33)))))
     out = render_scene_view(scene, cam, kind, r_fx)
@@ -293,13 +303,10 @@ def render_sample(
 def render_views(seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, views: Sequence[str] = VIEW_KINDS) -> list[Render]:
     """One layout and scene seen from several cameras (default top, ~45 degrees, front) for the
     view-to-view projection-error experiment. Effects are lighter than in single views."""
-    r_layout, r_scene, r_cam, r_fx = _streams(seed, 4)
-    spec = _spec(r_layout)
-    layout, mode = sample_layout(r_layout, spec)
-    scene = sample_scene(r_scene, layout)
+    scene, mode, r_cam, r_fx = _scene_and_streams(seed)
     out = []
     for view in views:
-        cam, kind = sample_camera(r_cam, spec, size, view, scene.floor_z, scene.rail_width, crop=False)
+        cam, kind = sample_camera(r_cam, scene.spec, size, view, scene.floor_z, scene.rail_width, crop=False)
         rend = render_scene_view(scene, cam, kind, r_fx, strength=0.3)
         rend.labels["layout_mode"] = mode
         rend.labels["view"] = view
