@@ -57,18 +57,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         action="store_true",
         help="also write OUT/detector-int8.onnx, quantised on images from --data and --balls (about 2x faster)",
     )
-    parser.add_argument(
-        "--regress-neighbours",
-        action="store_true",
-        help="also train size/offset/contact at the 8 cells around each object centre (better small-object boxes)",
-    )
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     try:
-        from pix2pockets.vision.train.targets import AugmentConfig
         from pix2pockets.vision.train.trainer import TrainConfig, train
     except ImportError as err:
         raise ValueError(f"train-detector needs torch (pip install 'pix2pockets[train]'): {err}") from err
@@ -102,7 +96,6 @@ def run(args: argparse.Namespace) -> int:
         max_minutes=args.max_minutes,
         pretrained=not args.no_pretrained,
         init=args.init,
-        augment=AugmentConfig(neighbour_regression=args.regress_neighbours),
     )
     path = train(cfg, resume=args.resume, progress=not args.quiet)
     print(f"wrote {path}")

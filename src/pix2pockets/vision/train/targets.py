@@ -1,8 +1,7 @@
 """Training samples for the heatmap detector: augmentation (numpy/OpenCV) and dense targets.
 
 Each sample is a random scaled crop of a letterboxed image with colour jitter and horizontal flips; targets
-are Gaussian centre heatmaps at stride 4 plus size, offset and contact-point regressions at object centres
-(optionally also at the neighbouring cells each object owns, see :attr:`AugmentConfig.neighbour_regression`).
+are Gaussian centre heatmaps at stride 4 plus size, offset and contact-point regressions at object centres.
 Randomness comes only from the ``np.random.Generator`` passed in, so a (seed, epoch, index) triple fixes a
 sample.
 """
@@ -21,10 +20,6 @@ from pix2pockets.vision.table_box import TABLE_MARGIN, inside_table_boxes
 from pix2pockets.vision.yolo_data import LabelledImage
 
 MAX_OBJECTS = 96
-"""Objects per sample whose centres are regressed (the rest still get heatmap peaks)."""
-MAX_ENTRIES = 4 * MAX_OBJECTS
-"""Regression entries per sample: object centres first, then neighbouring cells."""
-NEIGHBOURS = tuple((dx, dy) for dy in (-1, 0, 1) for dx in (-1, 0, 1) if dx or dy)
 
 
 @dataclass(frozen=True, slots=True)
@@ -37,10 +32,6 @@ class AugmentConfig:
         scale_range: extra random zoom range applied after that.
         flip: allow horizontal flips.
         colour: strength of brightness/contrast/hue-ish jitter (0 = off).
-        neighbour_regression: also regress size, offset and contact point at the 8 cells around each object's
-            centre cell that lie nearer to it than to any other object. The heatmap peak of a small object often
-            lands one cell off its centre; trained only at the centre, the offset read there is a guess, which
-            put a third of the diamonds over 1 px off (``docs/benchmarks-detector.md``).
     """
 
     crop: int = 320
@@ -48,7 +39,6 @@ class AugmentConfig:
     scale_range: tuple[float, float] = (0.7, 1.4)
     flip: bool = True
     colour: float = 0.25
-    neighbour_regression: bool = False
 
 
 @dataclass(frozen=True, slots=True)
@@ -64,13 +54,13 @@ class Sample:
     image: np.ndarray  # (3, S, S) float32 in [0, 1]
     heat: np.ndarray  # (N_HEAT, S/4, S/4) float32
     kind_mask: np.ndarray  # (N_HEAT,) float32
-    index: np.ndarray  # (MAX_ENTRIES,) int64 flat cell index
-    reg_mask: np.ndarray  # (MAX_ENTRIES,) float32
-    size: np.ndarray  # (MAX_ENTRIES, 2) log(w/4), log(h/4)
-    offset: np.ndarray  # (MAX_ENTRIES, 2) object centre minus the entry's cell [cells]
-    contact: np.ndarray  # (MAX_ENTRIES, 2) contact point minus the entry's cell [cells]
-    contact_mask: np.ndarray  # (MAX_ENTRIES,)
-    ball_class: np.ndarray  # (MAX_ENTRIES,) int64 ball class 0-3 at ball centres, -1 elsewhere
+    index: np.ndarray  # (MAX_OBJECTS,) int64 flat cell index
+    reg_mask: np.ndarray  # (MAX_OBJECTS,) float32
+    size: np.ndarray  # (MAX_OBJECTS, 2) log(w/4), log(h/4)
+    offset: np.ndarray  # (MAX_OBJECTS, 2)
+    contact: np.ndarray  # (MAX_OBJECTS, 2)
+    contact_mask: np.ndarray  # (MAX_OBJECTS,)
+    ball_class: np.ndarray  # (MAX_OBJECTS,) int64 ball class 0-3, -1 where unknown (dots, ball-only photos)
     off_table: np.ndarray  # (S/4, S/4) float32, 1 outside the table box of a ball-only photo
 
 
@@ -92,24 +82,6 @@ def draw_gaussian(heat: np.ndarray, cx: int, cy: int, sigma: float) -> None:
     ys, xs = np.mgrid[y0:y1, x0:x1]
     g = np.exp(-((xs - cx) ** 2 + (ys - cy) ** 2) / (2 * sigma**2))
     np.maximum(heat[y0:y1, x0:x1], g, out=heat[y0:y1, x0:x1])
-
-
-def _owned_neighbour_cells(objects: list, out: int) -> list:
-    """(object, cell) pairs for the 8 cells around each object's centre cell that lie inside the map, are no
-    object's centre cell, and whose cell centre is nearer to this object's centre than to any other's."""
-    centres = np.array([obj[0] for obj in objects])
-    centre_cells = {tuple(np.floor(c).astype(int)) for c in centres}
-    pairs = []
-    for j, obj in enumerate(objects):
-        cx, cy = np.floor(obj[0]).astype(int)
-        for dx, dy in NEIGHBOURS:
-            cell = (int(cx + dx), int(cy + dy))
-            if not (0 <= cell[0] < out and 0 <= cell[1] < out) or cell in centre_cells:
-                continue
-            d = np.linalg.norm(centres - (np.asarray(cell) + 0.5), axis=1)
-            if int(np.argmin(d)) == j:
-                pairs.append((obj, cell))
-    return pairs
 
 
 def _colour_jitter(img: np.ndarray, rng: np.random.Generator, strength: float) -> np.ndarray:
@@ -174,13 +146,13 @@ def make_sample(
     kind_mask = np.ones(N_HEAT, np.float32)
     if ball_only:
         kind_mask[:N_CLASSES] = 0
-    index = np.zeros(MAX_ENTRIES, np.int64)
-    reg_mask = np.zeros(MAX_ENTRIES, np.float32)
-    size = np.zeros((MAX_ENTRIES, 2), np.float32)
-    offset = np.zeros((MAX_ENTRIES, 2), np.float32)
-    contact = np.zeros((MAX_ENTRIES, 2), np.float32)
-    contact_mask = np.zeros(MAX_ENTRIES, np.float32)
-    ball_class = np.full(MAX_ENTRIES, -1, np.int64)
+    index = np.zeros(MAX_OBJECTS, np.int64)
+    reg_mask = np.zeros(MAX_OBJECTS, np.float32)
+    size = np.zeros((MAX_OBJECTS, 2), np.float32)
+    offset = np.zeros((MAX_OBJECTS, 2), np.float32)
+    contact = np.zeros((MAX_OBJECTS, 2), np.float32)
+    contact_mask = np.zeros(MAX_OBJECTS, np.float32)
+    ball_class = np.full(MAX_OBJECTS, -1, np.int64)
 
     boxes = item.boxes.copy()
     if len(boxes):
@@ -195,7 +167,7 @@ def make_sample(
         tables = boxes[item.class_id == table_class]
         if len(tables):
             off_table = off_table_mask(tables, out)
-    objects = []  # (centre [cells], box index, detector class, is ball) of the objects in the crop
+    n = 0
     order = np.argsort(-(boxes[:, 2] - boxes[:, 0]) * (boxes[:, 3] - boxes[:, 1])) if len(boxes) else []
     for i in order:
         k = int(item.class_id[i])
@@ -213,22 +185,17 @@ def make_sample(
             draw_gaussian(heat[det_k], ci[0], ci[1], sigma)
         if is_ball:
             draw_gaussian(heat[BALL_ANY], ci[0], ci[1], sigma)
-        objects.append((c, int(i), det_k, is_ball))
-    objects = objects[:MAX_OBJECTS]
-    cells = [(obj, tuple(np.floor(obj[0]).astype(int))) for obj in objects]
-    if cfg.neighbour_regression and objects:
-        cells += _owned_neighbour_cells(objects, out)
-    for n, ((c, i, det_k, is_ball), cell) in enumerate(cells[:MAX_ENTRIES]):
-        at = np.asarray(cell)
-        index[n] = at[1] * out + at[0]
-        reg_mask[n] = 1
-        size[n] = np.log([(boxes[i, 2] - boxes[i, 0]) / STRIDE, (boxes[i, 3] - boxes[i, 1]) / STRIDE])
-        offset[n] = c - at
-        if is_ball and np.all(np.isfinite(cont[i])):
-            contact[n] = cont[i] / STRIDE - at
-            contact_mask[n] = 1
-        if n < len(objects) and not ball_only and det_k in BALL_IDS:
-            ball_class[n] = det_k
+        if n < MAX_OBJECTS:
+            index[n] = ci[1] * out + ci[0]
+            reg_mask[n] = 1
+            size[n] = np.log([bw / STRIDE, bh / STRIDE])
+            offset[n] = c - ci
+            if is_ball and np.all(np.isfinite(cont[i])):
+                contact[n] = cont[i] / STRIDE - ci
+                contact_mask[n] = 1
+            if not ball_only and det_k in BALL_IDS:
+                ball_class[n] = det_k
+            n += 1
     return Sample(
         img.transpose(2, 0, 1).copy(),
         heat,

@@ -209,8 +209,6 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
             raise ValueError(f"--resume: no checkpoint {ckpt}")
         state = torch.load(ckpt, map_location="cpu", weights_only=False)
         old = dict(state["config"])
-        # settings added later: a checkpoint without them was trained with their defaults
-        old["augment"] = {**_comparable(TrainConfig(data=cfg.data, out=cfg.out))["augment"], **old.get("augment", {})}
         new = _comparable(cfg)
         changed = [
             k
