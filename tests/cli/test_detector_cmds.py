@@ -109,6 +109,10 @@ def test_train_detector_init_must_exist(toy, tmp_path, capsys):
     args = ["train-detector", "--data", str(toy), "--out", str(tmp_path / "r"), "--init", str(tmp_path / "no.onnx")]
     assert main([*args, "--no-pretrained", "--quiet"]) == 2
     assert "no.onnx" in capsys.readouterr().err
+    for name in ("bad.onnx", "bad.pt"):
+        (tmp_path / name).write_text("not weights")
+        assert main([*args[:-1], str(tmp_path / name), "--no-pretrained", "--quiet"]) == 2
+        assert name in capsys.readouterr().err
 
 
 def test_detect_and_evaluate_refuse_to_overwrite_without_force(toy, tmp_path, capsys):

@@ -48,11 +48,9 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _widths(text: str) -> tuple[int, int, int]:
+def _widths(text: str) -> tuple[int, ...]:
+    """Channel counts from ``24,48,96``; their number and range are checked by ``CropTrainConfig``."""
     try:
-        widths = tuple(int(v) for v in text.split(","))
-    except ValueError:
-        widths = ()
-    if len(widths) != 3:
-        raise ValueError(f"--widths needs three comma-separated channel counts like 24,48,96, got {text!r}")
-    return widths  # type: ignore[return-value]
+        return tuple(int(v) for v in text.split(","))
+    except ValueError as err:
+        raise ValueError(f"--widths needs three comma-separated channel counts like 24,48,96, got {text!r}") from err

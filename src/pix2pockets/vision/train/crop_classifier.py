@@ -166,7 +166,7 @@ def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
     weight = np.where(counts > 0, np.maximum(counts, 1) ** -cfg.class_power, 0.0)
     weight = torch.tensor(weight / (weight * counts).sum() * counts.sum(), dtype=torch.float32)
 
-    model = CropNet(tuple(cfg.widths))
+    model = CropNet(cfg.widths)
     opt = torch.optim.AdamW(model.parameters(), lr=cfg.lr, weight_decay=1e-4)
     gen = torch.Generator().manual_seed(cfg.seed)
     order_rng = np.random.default_rng(cfg.seed)

@@ -55,7 +55,10 @@ def _onnx_convs(path: Path) -> list[tuple[np.ndarray, np.ndarray | None]]:
     import onnx
     from onnx import numpy_helper
 
-    graph = onnx.load(str(path)).graph
+    try:
+        graph = onnx.load(str(path)).graph
+    except Exception as err:  # protobuf raises its own DecodeError for anything that is not ONNX
+        raise ValueError(f"{path} is not a readable ONNX file: {err}") from err
     tensors = {t.name: numpy_helper.to_array(t) for t in graph.initializer}
     convs = []
     for node in graph.node:

@@ -23,7 +23,7 @@ from tqdm import tqdm
 from pix2pockets.vision.train.loss import detector_loss
 from pix2pockets.vision.train.model import CenterNet, ExportWrapper
 from pix2pockets.vision.train.onnx_export import write_onnx
-from pix2pockets.vision.train.targets import AugmentConfig, make_sample
+from pix2pockets.vision.train.targets import AugmentConfig, Sample, make_sample
 from pix2pockets.vision.yolo_data import LabelledImage, dataset_class_map, load_split, load_splits
 
 CHECKPOINT = "last.pt"
@@ -158,27 +158,37 @@ def _load_init(
     if not init.is_file():
         raise ValueError(f"--init: no file {init}")
     if init.suffix != ".onnx":
-        model.load_state_dict(torch.load(init, map_location="cpu", weights_only=False)["model"])
+        try:
+            model.load_state_dict(torch.load(init, map_location="cpu", weights_only=False)["model"])
+        except Exception as err:  # unpickling and state-dict errors come in many types
+            raise ValueError(f"--init: {init} is not a detector checkpoint (last.pt): {err}") from err
         return
     from pix2pockets.vision.train.onnx_import import load_onnx_into
 
     # batch-norm statistics are measured on training crops drawn like the first steps' (own seed stream)
-    items = [(it, cmap) for it, cmap in main] + [(it, None) for it in balls]
-    rng = np.random.default_rng((cfg.seed, INIT_CALIBRATION_STREAM))
-    picks = rng.permutation(len(items))[:INIT_CALIBRATION_IMAGES]
-    crops = []
-    for j in picks:
-        it, cmap = items[int(j)]
-        sample = make_sample(
-            _read_rgb(it.image_path),
-            it,
-            {cfg.balls_class: 0} if cmap is None else cmap,
-            cmap is None,
-            cfg.augment,
-            np.random.default_rng((cfg.seed, INIT_CALIBRATION_STREAM, int(j))),
-        )
-        crops.append(sample.image)
+    items = list(main) + [(it, None) for it in balls]
+    picks = np.random.default_rng((cfg.seed, INIT_CALIBRATION_STREAM)).permutation(len(items))
+    crops = [
+        _sample(cfg, *items[int(j)], np.random.default_rng((cfg.seed, INIT_CALIBRATION_STREAM, int(j)))).image
+        for j in picks[:INIT_CALIBRATION_IMAGES]
+    ]
     load_onnx_into(model, init, torch.from_numpy(np.stack(crops)))
+
+
+def _sample(
+    cfg: TrainConfig, item: LabelledImage, class_map: dict[int, int] | None, rng: np.random.Generator
+) -> Sample:
+    """One augmented training sample; ``class_map`` None marks a ball-only photo."""
+    ball_only = class_map is None
+    return make_sample(
+        _read_rgb(item.image_path),
+        item,
+        {cfg.balls_class: 0} if ball_only else class_map,
+        ball_only,
+        cfg.augment,
+        rng,
+        cfg.balls_table_class,
+    )
 
 
 def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path:
@@ -249,22 +259,7 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
         order = order_rng.permutation(len(items))
         while batch_i < steps_per_epoch:
             idx = order[batch_i * cfg.batch : (batch_i + 1) * cfg.batch]
-            samples = []
-            for j in idx:
-                it, cmap = items[j]
-                rng = np.random.default_rng((cfg.seed, epoch, int(j)))
-                ball_only = cmap is None
-                samples.append(
-                    make_sample(
-                        _read_rgb(it.image_path),
-                        it,
-                        {cfg.balls_class: 0} if ball_only else cmap,
-                        ball_only,
-                        cfg.augment,
-                        rng,
-                        cfg.balls_table_class,
-                    )
-                )
+            samples = [_sample(cfg, *items[j], np.random.default_rng((cfg.seed, epoch, int(j)))) for j in idx]
             batch = _collate(samples)
             for g in opt.param_groups:
                 g["lr"] = _lr_at(step, total, cfg.lr)
