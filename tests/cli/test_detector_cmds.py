@@ -115,6 +115,23 @@ def test_train_detector_init_must_exist(toy, tmp_path, capsys):
         assert name in capsys.readouterr().err
 
 
+def test_export_only_int8_quantises_an_existing_onnx(toy, tmp_path, capsys):
+    pytest.importorskip("onnx", reason="quantisation needs the onnx package (train extra)")
+    from pix2pockets.vision.onnx_detector import default_model_path
+
+    out = tmp_path / "run"
+    out.mkdir()
+    args = ["train-detector", "--out", str(out), "--export-only", "--data", str(toy)]
+    assert main(args) == 2  # no checkpoint and nothing to quantise
+    assert "no checkpoint" in capsys.readouterr().err
+    (out / "detector.onnx").write_bytes(default_model_path().read_bytes())
+    assert main([*args, "--int8"]) == 0
+    assert (out / "detector-int8.onnx").stat().st_size > 100_000
+    image = str(next((toy / "test" / "images").iterdir()))
+    rc = main(["detect", image, "--model", str(out / "detector-int8.onnx"), "--json", str(tmp_path / "d.json")])
+    assert rc == 0 and json.loads((tmp_path / "d.json").read_text())["after_postprocess"]
+
+
 def test_detect_and_evaluate_refuse_to_overwrite_without_force(toy, tmp_path, capsys):
     out = tmp_path / "e.json"
     out.write_text("keep me")

@@ -50,7 +50,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="start from these weights: a checkpoint (last.pt) or a fp32 detector .onnx, e.g. the shipped one",
     )
     parser.add_argument(
-        "--export-only", action="store_true", help="only export OUT/last.pt to OUT/detector.onnx (no training)"
+        "--export-only",
+        action="store_true",
+        help="only export OUT/last.pt to OUT/detector.onnx (no training); with --int8 and no last.pt, "
+        "quantise an existing OUT/detector.onnx",
     )
     parser.add_argument(
         "--int8",
@@ -70,12 +73,17 @@ def run(args: argparse.Namespace) -> int:
     if args.export_only:
         from pix2pockets.vision.train.trainer import CHECKPOINT, ONNX_NAME, export_checkpoint
 
-        ckpt = Path(args.out) / CHECKPOINT
-        if not ckpt.exists():
-            raise ValueError(f"--export-only: no checkpoint {ckpt}")
-        path = export_checkpoint(ckpt, Path(args.out) / ONNX_NAME)
-        print(f"wrote {path}")
-        return _quantize(args, path)
+        ckpt, onnx_path = Path(args.out) / CHECKPOINT, Path(args.out) / ONNX_NAME
+        if ckpt.exists():
+            print(f"wrote {export_checkpoint(ckpt, onnx_path)}")
+        elif args.int8 and onnx_path.exists():
+            print(f"no checkpoint {ckpt}: quantising the existing {onnx_path}")
+        else:
+            raise ValueError(
+                f"--export-only: no checkpoint {ckpt}"
+                + ("" if args.int8 else f" (with --int8 an existing {onnx_path} is quantised on its own)")
+            )
+        return _quantize(args, onnx_path)
     cfg = TrainConfig(
         data=tuple(args.data),
         out=args.out,
