@@ -17,7 +17,8 @@ height).
 
 Usage:
     PYTHONPATH=src python benchmarks/projection_error.py --json OUT.json [--sets 25] [--noise 0.5]
-    PYTHONPATH=src python benchmarks/projection_error.py --rendered 8 --json OUT.json [--height image] [--onnx]
+    PYTHONPATH=src python benchmarks/projection_error.py --rendered 8 --json OUT.json [--height image] \
+        [--onnx [--model M]]
 """
 
 from __future__ import annotations
@@ -83,7 +84,9 @@ def run(sets: int, noise: float, seed: int) -> dict:
     return summarise(truth_err, v2v, {"sets": sets, "noise_px": noise, "seed": seed, "fit_failures": failures})
 
 
-def run_rendered(sets: int, seed: int, height: str, size: tuple[int, int], onnx: bool = False) -> dict:
+def run_rendered(
+    sets: int, seed: int, height: str, size: tuple[int, int], onnx: bool = False, model: str | None = None
+) -> dict:
     from pix2pockets.synth.renderer import render_views
     from pix2pockets.vision.rail_height import refine_fit_height
 
@@ -92,6 +95,11 @@ def run_rendered(sets: int, seed: int, height: str, size: tuple[int, int], onnx:
         from pix2pockets.pipeline.photo import clean_detections, default_detector
 
         detector = default_detector()
+        if model is not None:
+            from pix2pockets.vision.ball_classifier import BallClassifier
+            from pix2pockets.vision.onnx_detector import OnnxDetector
+
+            detector = OnnxDetector(model, classifier=BallClassifier.from_default())
 
     views = ("top", "high", "front")
     truth_err: dict[str, dict[str, list[float]]] = {m.value: {v: [] for v in views} for m in METHODS}
@@ -186,13 +194,14 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--onnx", action="store_true", help="rendered: detections from the bundled ONNX detector, not the labels"
     )
+    parser.add_argument("--model", default=None, help="rendered, --onnx: this detector ONNX instead of the bundled one")
     parser.add_argument("--size", default="1280x720", help="rendered: image size WxH")
     parser.add_argument("--json", help="write results to this JSON file")
     args = parser.parse_args(argv)
     if args.rendered:
         size = tuple(int(v) for v in args.size.lower().split("x"))
         height = "known" if args.known_height else args.height
-        res = run_rendered(args.rendered, args.seed, height, size, args.onnx)
+        res = run_rendered(args.rendered, args.seed, height, size, args.onnx, args.model)
         print(
             f"projection error, {res['sets']} rendered sets x 3 views ({res['detections']}, "
             f"{height} diamond height), scaled to a 9-ft table [cm]"
