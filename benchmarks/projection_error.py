@@ -93,13 +93,9 @@ def run_rendered(
     detector = None
     if onnx:
         from pix2pockets.pipeline.photo import clean_detections, default_detector
+        from pix2pockets.vision.onnx_detector import OnnxDetector, default_classifier
 
-        detector = default_detector()
-        if model is not None:
-            from pix2pockets.vision.ball_classifier import BallClassifier
-            from pix2pockets.vision.onnx_detector import OnnxDetector
-
-            detector = OnnxDetector(model, classifier=BallClassifier.from_default())
+        detector = default_detector() if model is None else OnnxDetector(model, classifier=default_classifier())
 
     views = ("top", "high", "front")
     truth_err: dict[str, dict[str, list[float]]] = {m.value: {v: [] for v in views} for m in METHODS}

@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import argparse
 import sys
-from pathlib import Path
 
+from pix2pockets.cli.output import check_output
 from pix2pockets.vision.train.weight_average import average_onnx_weights
 
 
@@ -21,15 +21,12 @@ def main() -> int:
     ap.add_argument("--weight", type=float, default=0.5, help="share of SECOND in [0, 1] (default 0.5)")
     ap.add_argument("--force", action="store_true", help="overwrite OUT")
     args = ap.parse_args()
-    for path in (args.first, args.second):
-        if not Path(path).is_file():
-            print(f"error: {path} is not a file", file=sys.stderr)
-            return 2
-    if Path(args.out).exists() and not args.force:
-        print(f"error: {args.out} exists; use --force to overwrite", file=sys.stderr)
-        return 2
     try:
+        check_output(args.out, args.force, (".onnx",))
         print(f"wrote {average_onnx_weights(args.first, args.second, args.out, args.weight)}")
+    except ImportError as err:
+        print(f"error: averaging needs the onnx package (pip install 'pix2pockets[train]'): {err}", file=sys.stderr)
+        return 2
     except ValueError as err:
         print(f"error: {err}", file=sys.stderr)
         return 2

@@ -21,6 +21,7 @@ import torch
 from torch import nn
 
 from pix2pockets.vision.train.model import CenterNet
+from pix2pockets.vision.train.onnx_file import load_onnx_model
 
 
 def _convs_in_run_order(model: nn.Module, example: torch.Tensor) -> list[nn.Conv2d]:
@@ -52,13 +53,9 @@ def _norm_after(model: nn.Module) -> dict[nn.Conv2d, nn.BatchNorm2d]:
 
 
 def _onnx_convs(path: Path) -> list[tuple[np.ndarray, np.ndarray | None]]:
-    import onnx
     from onnx import numpy_helper
 
-    try:
-        graph = onnx.load(str(path)).graph
-    except Exception as err:  # protobuf raises its own DecodeError for anything that is not ONNX
-        raise ValueError(f"{path} is not a readable ONNX file: {err}") from err
+    graph = load_onnx_model(path).graph
     tensors = {t.name: numpy_helper.to_array(t) for t in graph.initializer}
     convs = []
     for node in graph.node:

@@ -8,10 +8,12 @@ folded weights: the result is a network between the two, not the average of thei
 
 from __future__ import annotations
 
-import os
 from pathlib import Path
 
 import numpy as np
+
+from pix2pockets.cli.output import write_atomic
+from pix2pockets.vision.train.onnx_file import load_onnx_model
 
 
 def average_onnx_weights(first: str | Path, second: str | Path, out: str | Path, weight: float = 0.5) -> Path:
@@ -19,14 +21,13 @@ def average_onnx_weights(first: str | Path, second: str | Path, out: str | Path,
 
     Args:
         first, second: fp32 ONNX files of the same network (same graph, initializer names and shapes).
-        out: where to write the averaged model (written atomically).
+        out: where to write the averaged model (whole file or nothing).
         weight: share of ``second`` in [0, 1].
 
     Raises:
-        ValueError: if the weight is outside [0, 1], the output folder is missing, or the two models differ
-            in structure.
+        ValueError: if the weight is outside [0, 1], the output folder is missing, an input is not an ONNX
+            file, or the two models differ in structure.
     """
-    import onnx
     from onnx import numpy_helper
 
     if not 0.0 <= weight <= 1.0:
@@ -34,10 +35,8 @@ def average_onnx_weights(first: str | Path, second: str | Path, out: str | Path,
     out = Path(out)
     if not out.parent.is_dir():
         raise ValueError(f"output folder {out.parent} does not exist")
-    a, b = onnx.load(str(first)), onnx.load(str(second))
-    ops_a = [n.op_type for n in a.graph.node]
-    ops_b = [n.op_type for n in b.graph.node]
-    if ops_a != ops_b:
+    a, b = load_onnx_model(first), load_onnx_model(second)
+    if [n.op_type for n in a.graph.node] != [n.op_type for n in b.graph.node]:
         raise ValueError(f"{first} and {second} are different networks (their graphs differ)")
     other = {t.name: numpy_helper.to_array(t) for t in b.graph.initializer}
     for init in a.graph.initializer:
@@ -50,7 +49,5 @@ def average_onnx_weights(first: str | Path, second: str | Path, out: str | Path,
             init.CopyFrom(numpy_helper.from_array(mixed, init.name))
         elif not np.array_equal(x, y):
             raise ValueError(f"integer initializer {init.name!r} differs between the two models")
-    partial = out.with_name(out.name + ".tmp")
-    onnx.save(a, str(partial))
-    os.replace(partial, out)
+    write_atomic(out, a.SerializeToString())
     return out
