@@ -40,8 +40,8 @@ METHODS = (LocateMethod.SPHERE, LocateMethod.CONTACT, LocateMethod.LINEAR)
 
 
 def matched_errors(est: np.ndarray, truth: np.ndarray, spec: TableSpec) -> np.ndarray:
-    """Per-ball distances [m] after matching balls one-to-one; the 180-degree turn of the table frame
-    (the inherent ambiguity) is undone when it matches better."""
+    """Per-ball distances [m] after matching balls one-to-one (min(len(est), len(truth)) pairs); the
+    180-degree turn of the table frame (the inherent ambiguity) is undone when it matches better."""
     best = None
     for flip in (False, True):
         e = np.column_stack([spec.length - est[:, 0], spec.width - est[:, 1]]) if flip else est
@@ -102,6 +102,7 @@ def run_rendered(
     v2v: dict[str, dict[str, list[float]]] = {m.value: {v: [] for v in views[1:]} for m in METHODS}
     failures: list[str] = []
     rise_err: dict[str, list[float]] = {v: [] for v in views}
+    counts = {"truth": 0, "located": 0, "found": 0}  # sphere method: a truth ball is found within a diameter
     measured = 0
     for k in range(sets):
         renders = render_views((seed, k), size=size, views=views)
@@ -129,9 +130,12 @@ def run_rendered(
             for m in METHODS:
                 loc = locate_balls(fit.camera, det, spec, m, diamond_z=fit.diamond_z)
                 per_view[lab["view"]][m.value] = loc.positions * scale
-                if len(loc.positions) and len(truth):
-                    errs = matched_errors(loc.positions, truth, spec) * scale
-                    truth_err[m.value][lab["view"]].extend(errs)
+                errs = matched_errors(loc.positions, truth, spec) if len(loc.positions) and len(truth) else []
+                truth_err[m.value][lab["view"]].extend(np.asarray(errs) * scale)
+                if m is LocateMethod.SPHERE:
+                    counts["truth"] += len(truth)
+                    counts["located"] += len(loc.positions)
+                    counts["found"] += int(np.sum(np.asarray(errs) < 2 * spec.ball_radius))
         for m in METHODS:
             if "top" not in per_view:
                 continue
@@ -154,6 +158,11 @@ def run_rendered(
             "size": list(size),
             "fit_failures": len(failures),
             "failures": failures,
+            "balls": {
+                **counts,
+                "missed": counts["truth"] - counts["found"],
+                "extra": counts["located"] - counts["found"],
+            },
         },
     )
 
@@ -205,6 +214,11 @@ def main(argv: list[str] | None = None) -> int:
         print(
             f"diamond height error [mm, 9-ft scale]: {res['height_error_mm']}; "
             f"measured from the image in {res['height_measured']} views"
+        )
+        b = res["balls"]
+        print(
+            f"balls (sphere): {b['truth']} labelled, {b['located']} located, {b['missed']} missed, "
+            f"{b['extra']} extra (none within a ball diameter)"
         )
     else:
         res = run(args.sets, args.noise, args.seed)

@@ -132,6 +132,24 @@ def test_export_only_int8_quantises_an_existing_onnx(toy, tmp_path, capsys):
     assert rc == 0 and json.loads((tmp_path / "d.json").read_text())["after_postprocess"]
 
 
+def test_export_only_init_rewrites_onnx_weights_with_the_current_graph(toy, tmp_path, capsys):
+    pytest.importorskip("onnx", reason="reading ONNX weights needs the onnx package (train extra)")
+    from pix2pockets.vision.onnx_detector import default_model_path
+
+    out = tmp_path / "run"
+    args = ["train-detector", "--out", str(out), "--export-only", "--data", str(toy), "--init"]
+    assert main([*args, str(tmp_path / "missing.onnx")]) == 2
+    assert "missing.onnx" in capsys.readouterr().err
+    assert main([*args, str(default_model_path())]) == 0
+    image = str(next((toy / "test" / "images").iterdir()))
+    found = []
+    for model in (default_model_path(), out / "detector.onnx"):
+        rc = main(["detect", image, "--model", str(model), "--json", str(tmp_path / "d.json"), "--force"])
+        assert rc == 0
+        found.append(len(json.loads((tmp_path / "d.json").read_text())["after_postprocess"]))
+    assert found[0] > 0 and abs(found[0] - found[1]) <= 2  # the same network: the same objects
+
+
 def test_detect_and_evaluate_refuse_to_overwrite_without_force(toy, tmp_path, capsys):
     out = tmp_path / "e.json"
     out.write_text("keep me")

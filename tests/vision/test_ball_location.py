@@ -71,6 +71,23 @@ def test_balls_off_table_or_in_pockets_are_dropped():
     assert loc.env_positions.shape == (1, 2)
 
 
+def test_a_ball_seen_twice_is_kept_once_and_touching_balls_stay_two():
+    cam = VIEWS["top"]
+    R = SPEC.ball_radius
+    layout = TableLayout(
+        (Ball(BallClass.CUE), Ball(BallClass.SOLID)), np.array([[1.0, 0.5], [1.0 + 2 * R, 0.5]]), SPEC
+    )  # touching
+    det = analytic_detections(cam, layout)
+    fit = fit_table(det, cam.image_size, SPEC)
+    ghost = sphere_boxes(cam, np.array([[1.0 + 0.01, 0.5, R]]), R)  # the cue ball again, 1 cm off
+    extra = Detections(ghost, np.array([0.3]), np.array([3]))
+    loc = locate_balls(fit.camera, Detections.concatenate([det, extra]), SPEC)
+    assert loc.detections.class_names == ["cue", "solid"] and loc.dropped == 1
+    assert (
+        len(locate_balls(fit.camera, Detections.concatenate([det, extra]), SPEC, same_ball_distance=0.0).positions) == 3
+    )
+
+
 def test_settle_positions_separates_touching_estimates():
     R = SPEC.ball_radius
     pos = settle_positions(np.array([[1.0, 0.5], [1.0 + 1.9 * R, 0.5], [R / 2, 0.3]]), SPEC)

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from pix2pockets.vision.heatmap_decode import decode_peaks
+from pix2pockets.vision.heatmap_decode import decode_ball_peaks, decode_peaks
 from pix2pockets.vision.heatmap_layout import BALL_ANY, CONTACT_SLICE, N_OUT, OFFSET_SLICE, SIZE_SLICE, STRIDE
 from pix2pockets.vision.letterbox import Letterbox, letterbox
 
@@ -55,6 +55,28 @@ def test_decode_agnostic_reads_ball_channel():
     out[2, 9, 9] = 0.9
     det = decode_peaks(out, Letterbox(1.0, (120, 80)), agnostic=True)
     assert len(det) == 1 and det.confidence[0] == pytest.approx(0.7)
+
+
+def _ball_cell(out, y, x, score, offset, size_px=8.0):
+    out[BALL_ANY, y, x] = score
+    out[2, y, x] = score  # a solid
+    out[OFFSET_SLICE, y, x] = offset
+    out[SIZE_SLICE, y, x] = np.log(size_px / STRIDE)
+
+
+def test_candidates_of_one_ball_merge_and_touching_balls_stay_apart():
+    box = Letterbox(1.0, (120, 80))
+    one = _output()
+    _ball_cell(one, 5, 5, 0.9, [0.5, 0.5])
+    _ball_cell(one, 5, 6, 0.7, [-0.4, 0.5])  # the same ball seen from the next cell: its box lands on the first
+    balls, heat = decode_ball_peaks(one, box)
+    assert len(balls) == 1 and balls.confidence[0] == pytest.approx(0.9) and heat.shape == (1, 4)
+    assert len(decode_peaks(one, box)) == 1 and len(decode_peaks(one, box, agnostic=True)) == 1
+    two = _output()
+    _ball_cell(two, 5, 5, 0.9, [0.0, 0.5])
+    _ball_cell(two, 5, 6, 0.7, [1.0, 0.5])  # a touching ball 8 px away, one cell over
+    assert len(decode_ball_peaks(two, box)[0]) == 2
+    assert len(decode_peaks(two, box)) == 2
 
 
 def test_decode_rejects_wrong_shape():

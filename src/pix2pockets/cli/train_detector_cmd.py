@@ -52,8 +52,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--export-only",
         action="store_true",
-        help="only export OUT/last.pt to OUT/detector.onnx (no training); with --int8 and no last.pt, "
-        "quantise an existing OUT/detector.onnx",
+        help="only export OUT/last.pt to OUT/detector.onnx (no training); without last.pt, --init X.onnx writes "
+        "X's weights to OUT/detector.onnx with the current export graph; with --int8 and neither, quantise an "
+        "existing OUT/detector.onnx",
     )
     parser.add_argument(
         "--int8",
@@ -71,11 +72,16 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"train-detector needs torch (pip install 'pix2pockets[train]'): {err}") from err
 
     if args.export_only:
-        from pix2pockets.vision.train.trainer import CHECKPOINT, ONNX_NAME, export_checkpoint
+        from pix2pockets.vision.train.trainer import CHECKPOINT, ONNX_NAME, export_checkpoint, reexport_onnx
 
         ckpt, onnx_path = Path(args.out) / CHECKPOINT, Path(args.out) / ONNX_NAME
         if ckpt.exists():
             print(f"wrote {export_checkpoint(ckpt, onnx_path)}")
+        elif args.init and Path(args.init).suffix == ".onnx":
+            if not Path(args.init).is_file():
+                raise ValueError(f"--init: no file {args.init}")
+            Path(args.out).mkdir(parents=True, exist_ok=True)
+            print(f"wrote {reexport_onnx(args.init, onnx_path, args.seed)} (the weights of {args.init})")
         elif args.int8 and onnx_path.exists():
             print(f"no checkpoint {ckpt}: quantising the existing {onnx_path}")
         else:

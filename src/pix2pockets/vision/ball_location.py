@@ -148,8 +148,9 @@ def locate_balls(
     method: LocateMethod | str = LocateMethod.SPHERE,
     off_table_margin: float = 0.03,
     diamond_z: float | None = None,
+    same_ball_distance: float | None = None,
 ) -> LocatedBalls:
-    """Map each ball detection to its table centre; drop balls off the table or in pockets.
+    """Map each ball detection to its table centre; drop balls off the table, in pockets, or seen twice.
 
     Args:
         camera: the recovered camera.
@@ -160,6 +161,9 @@ def locate_balls(
             rest are clamped onto it).
         diamond_z: height of the diamond plane the camera was fitted to [m] (``linear`` only; default the
             spec's).
+        same_ball_distance: two detections whose table centres are closer than this [m] are one ball seen
+            twice (two balls cannot be closer than a diameter); the less confident is dropped. Default: one
+            ball radius, well above the location error and well below the gap of touching balls.
     """
     spec = spec or TableSpec()
     method = LocateMethod(method)
@@ -180,6 +184,7 @@ def locate_balls(
     dist = np.linalg.norm(np.where(finite[:, None], xy, 1e9)[:, None, :] - pockets[None], axis=-1)
     in_pocket = np.any(dist < radii[None], axis=1)
     keep = on_table & ~in_pocket
+    keep[keep] = ~seen_twice(xy[keep], det.confidence[keep], R if same_ball_distance is None else same_ball_distance)
     xy = xy[keep]
     xy = (
         np.column_stack([np.clip(xy[:, 0], R, spec.length - R), np.clip(xy[:, 1], R, spec.width - R)])
@@ -188,6 +193,19 @@ def locate_balls(
     )
     contact = camera.project_table(xy, 0.0) if len(xy) else np.zeros((0, 2))
     return LocatedBalls(det[keep], xy, contact, int((~keep).sum()))
+
+
+def seen_twice(positions: np.ndarray, confidence: np.ndarray, min_distance: float) -> np.ndarray:
+    """Mask of the detections that repeat a more confident one: centre closer than ``min_distance`` [m]."""
+    pos = np.asarray(positions, dtype=float).reshape(-1, 2)
+    repeat = np.zeros(len(pos), dtype=bool)
+    kept: list[int] = []
+    for i in np.argsort(-np.asarray(confidence, dtype=float), kind="stable"):
+        if kept and np.min(np.linalg.norm(pos[kept] - pos[i], axis=1)) < min_distance:
+            repeat[i] = True
+        else:
+            kept.append(int(i))
+    return repeat
 
 
 def settle_positions(positions: np.ndarray, spec: TableSpec, iterations: int = 50) -> np.ndarray:

@@ -8,6 +8,7 @@ from pix2pockets.vision.classes import BALL_IDS
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.heatmap_layout import (
     BALL_ANY,
+    BALL_NMS_IOU,
     CONTACT_SLICE,
     N_CLASSES,
     N_OUT,
@@ -30,7 +31,8 @@ def decode_peaks(
     """Detections from one image's output (N_OUT, h, w) whose heatmaps hold only local peaks.
 
     Args:
-        out: the model output for one image (peaks already isolated by the exported 3x3 max-pool).
+        out: the model output for one image, non-peak cells already zeroed by the exported graph. Ball cells
+            are the "any ball" candidates; those of one ball are merged here by NMS (:func:`merged_ball_cells`).
         box: the letterbox used for the input, to map back to image pixels.
         conf_threshold: lowest peak score kept.
         max_detections: keep at most this many, the highest scores.
@@ -43,7 +45,11 @@ def decode_peaks(
     """
     _check(out)
     chans = (BALL_ANY,) if agnostic else tuple(channels)
-    ci, ys, xs, scores = _select(out[list(chans)], conf_threshold, max_detections)
+    heat = out[list(chans)]  # a copy
+    balls = [i for i, c in enumerate(chans) if c in BALL_IDS or agnostic]
+    if balls:
+        heat[balls] = np.where(merged_ball_cells(out, conf_threshold), 0.0, heat[balls])
+    ci, ys, xs, scores = _select(heat, conf_threshold, max_detections)
     cls = np.zeros(len(ci), dtype=int) if agnostic else np.asarray(chans, dtype=int)[ci]
     is_ball = np.isin(cls, BALL_IDS) | agnostic
     return _assemble(out, box, ys, xs, scores, cls, is_ball, image_size)
@@ -61,9 +67,47 @@ def decode_ball_peaks(
     Arguments as in :func:`decode_peaks`.
     """
     _check(out)
-    _, ys, xs, scores = _select(out[[BALL_ANY]], conf_threshold, max_detections)
+    heat = np.where(merged_ball_cells(out, conf_threshold), 0.0, out[BALL_ANY])
+    _, ys, xs, scores = _select(heat[None], conf_threshold, max_detections)
     det = _assemble(out, box, ys, xs, scores, np.zeros(len(ys), dtype=int), np.ones(len(ys), bool), image_size)
     return det, out[list(BALL_IDS)][:, ys, xs].T
+
+
+def merged_ball_cells(out: np.ndarray, conf_threshold: float = 0.05) -> np.ndarray:
+    """(h, w) mask of the "any ball" candidate cells that belong to a neighbouring, higher-scoring candidate.
+
+    The exported graph keeps every cell within :data:`~pix2pockets.vision.heatmap_layout.BALL_PEAK_RATIO` of
+    its 3x3 maximum, so that touching balls in neighbouring cells both survive. A candidate is merged into one
+    of its 8 neighbours when that one scores higher and their boxes overlap by IoU >=
+    :data:`~pix2pockets.vision.heatmap_layout.BALL_NMS_IOU` (one ball seen from two cells); touching balls, whose
+    boxes barely overlap, stay apart. With a strict-peak model the mask is empty.
+    """
+    heat = np.where(out[BALL_ANY] >= conf_threshold, out[BALL_ANY], 0.0)
+    h, w = heat.shape
+    ys, xs = np.mgrid[0:h, 0:w]
+    size = np.exp(np.clip(out[SIZE_SLICE], -4.0, 6.0))
+    centre = np.stack([xs, ys]) + out[OFFSET_SLICE]
+    lo, hi = centre - size / 2, centre + size / 2  # (2, h, w) box corners in cells
+    pad = ((1, 1), (1, 1))
+    heat_p = np.pad(heat, pad)
+    lo_p = np.pad(lo, ((0, 0), *pad))
+    hi_p = np.pad(hi, ((0, 0), *pad))
+    area = np.prod(hi - lo, axis=0)
+    merged = np.zeros((h, w), dtype=bool)
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            if dy == dx == 0:
+                continue
+            win = (slice(1 + dy, 1 + dy + h), slice(1 + dx, 1 + dx + w))
+            other = heat_p[win]
+            inter = np.prod(
+                np.clip(np.minimum(hi, hi_p[(slice(None), *win)]) - np.maximum(lo, lo_p[(slice(None), *win)]), 0, None),
+                axis=0,
+            )
+            other_area = np.prod(hi_p[(slice(None), *win)] - lo_p[(slice(None), *win)], axis=0)
+            iou = inter / np.maximum(area + other_area - inter, 1e-12)
+            merged |= (heat > 0) & (other > heat) & (iou >= BALL_NMS_IOU)
+    return merged
 
 
 def _check(out: np.ndarray) -> None:

@@ -29,3 +29,14 @@ def test_ball_class_scores_appear_only_where_any_ball_peaks():
     assert float(cue[4, 4]) == pytest.approx(float(torch.sigmoid(torch.tensor(1.5))))
     assert float(out[0, 4, 8, 8]) > 0.8  # dots keep their own peaks
     assert float(out[0, 2].max()) < 0.01  # no solid score where no ball
+
+
+def test_touching_balls_in_neighbouring_cells_both_stay_candidates():
+    raw = torch.full((1, N_OUT, 10, 10), -8.0)
+    raw[0, BALL_ANY, 4, 4] = 2.0  # sigmoid 0.88
+    raw[0, BALL_ANY, 4, 5] = 1.0  # 0.73: within BALL_PEAK_RATIO of its neighbour, a strict peak filter drops it
+    raw[0, BALL_ANY, 5, 5] = -1.0  # 0.27: a weak shoulder, not a candidate
+    raw[0, 2, 4, 5] = 1.0
+    out = ExportWrapper(_Fixed(raw))(torch.zeros(1, 3, 40, 40))
+    assert torch.count_nonzero(out[0, BALL_ANY] > 0.01) == 2
+    assert float(out[0, 2, 4, 5]) > 0.7  # its class scores are read there too

@@ -19,6 +19,7 @@ from torch.nn import functional as F  # noqa: N812
 from pix2pockets.vision.classes import BALL_IDS
 from pix2pockets.vision.heatmap_layout import (
     BALL_ANY,
+    BALL_PEAK_RATIO,
     CONTACT_SLICE,
     IMAGENET_MEAN,
     IMAGENET_STD,
@@ -92,7 +93,12 @@ class CenterNet(nn.Module):
 
 
 class ExportWrapper(nn.Module):
-    """What the ONNX file computes: sigmoid heatmaps with non-peaks zeroed (3x3 max-pool), regressions as is."""
+    """What the ONNX file computes: sigmoid heatmaps with non-peaks zeroed, regressions as is.
+
+    A class or dot cell is a peak when it is the maximum of its 3x3 neighbourhood. An "any ball" cell is a
+    candidate when it holds at least :data:`~pix2pockets.vision.heatmap_layout.BALL_PEAK_RATIO` of that maximum,
+    so touching balls in neighbouring cells both survive; the decoder merges candidates of one ball by NMS.
+    """
 
     def __init__(self, net: CenterNet) -> None:
         super().__init__()
@@ -101,9 +107,13 @@ class ExportWrapper(nn.Module):
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         out = self.net(x)
         heat = torch.sigmoid(out[:, :N_HEAT])
-        is_peak = (F.max_pool2d(heat, 3, 1, 1) == heat).to(heat.dtype)
-        ball_peak = is_peak[:, BALL_ANY : BALL_ANY + 1] * (heat[:, BALL_ANY : BALL_ANY + 1] >= 0.01).to(heat.dtype)
-        # Ball classes are read where the "any ball" heatmap peaks: one location per ball, four class scores.
+        local_max = F.max_pool2d(heat, 3, 1, 1)
+        is_peak = (local_max == heat).to(heat.dtype)
+        any_ball = heat[:, BALL_ANY : BALL_ANY + 1]
+        near_peak = any_ball >= BALL_PEAK_RATIO * local_max[:, BALL_ANY : BALL_ANY + 1]
+        ball_peak = (near_peak & (any_ball >= 0.01)).to(heat.dtype)
+        # Ball classes are read at the "any ball" candidates: after the decoder's NMS one per ball, four scores.
         n_ball = len(BALL_IDS)
-        peaks = torch.cat([heat[:, :n_ball] * ball_peak, heat[:, n_ball:] * is_peak[:, n_ball:]], dim=1)
+        dots = slice(n_ball, BALL_ANY)
+        peaks = torch.cat([heat[:, :n_ball] * ball_peak, heat[:, dots] * is_peak[:, dots], any_ball * ball_peak], dim=1)
         return torch.cat([peaks, out[:, SIZE_SLICE], out[:, OFFSET_SLICE], out[:, CONTACT_SLICE]], dim=1)

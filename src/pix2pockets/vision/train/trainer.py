@@ -142,6 +142,20 @@ def export_checkpoint(checkpoint: str | Path, onnx_path: str | Path) -> Path:
     return export_onnx(model.eval(), Path(onnx_path))
 
 
+def reexport_onnx(source: str | Path, onnx_path: str | Path, seed: int = 0) -> Path:
+    """Write the weights of a fp32 detector ONNX file again with the current export graph (:class:`ExportWrapper`).
+
+    For a change in what the graph computes around the network (e.g. the ball candidate rule) without retraining;
+    the network's function is unchanged (the imported weights reproduce the file exactly in eval mode).
+    """
+    from pix2pockets.vision.train.onnx_import import load_onnx_into
+
+    model = CenterNet(pretrained=False)
+    calibration = torch.rand(2, 3, 64, 64, generator=torch.Generator().manual_seed(seed))
+    load_onnx_into(model, source, calibration)
+    return export_onnx(model.eval(), Path(onnx_path))
+
+
 INIT_CALIBRATION_IMAGES = 16
 INIT_CALIBRATION_STREAM = 1 << 30
 """Seed-sequence key of the calibration crops (apart from the epochs' keys)."""
