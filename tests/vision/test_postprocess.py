@@ -6,6 +6,7 @@ from pix2pockets.vision.postprocess import (
     apply_caps,
     box_iou,
     class_agnostic_nms,
+    cue_posterior,
     nms_indices,
     postprocess,
     resolve_ball_classes,
@@ -127,3 +128,21 @@ def test_a_doubtful_ball_claims_the_cue_only_when_no_sure_ball_does():
     sure = Detections(np.array([_ball(0), _ball(100), _ball(100.5)]), np.array([0.2, 0.5, 0.4]), np.array([0, 0, 3]))
     out = resolve_ball_classes(sure)
     assert out.class_id[np.argmax(out.boxes[:, 0])] == 0  # the sure ball (0.5 cue vs 0.4 stripe) wins
+
+
+def test_cue_posterior_lifts_a_lone_cue_like_ball_and_splits_between_rivals():
+    lone = cue_posterior(np.array([0.7, 0.0, 0.02]))
+    assert lone[0] > 0.69 and lone[1] == 0.0  # no rival: about its own score (the rest is "no cue in view")
+    rivals = cue_posterior(np.array([0.7, 0.7]))
+    assert rivals[0] == pytest.approx(rivals[1]) and rivals.sum() < 0.9 and rivals[0] < 0.5
+    assert cue_posterior(np.array([0.999999, 0.1]))[0] > 0.99
+    np.testing.assert_allclose(cue_posterior(np.array([1.0, 0.5])), [1.0, 0.0])
+    assert len(cue_posterior(np.zeros(0))) == 0
+
+
+def test_resolved_cue_confidence_drops_when_another_ball_is_as_cue_like():
+    alone = Detections(np.array([_ball(0), _ball(100)]), np.array([0.6, 0.9]), np.array([0, 2]))
+    rival = Detections(np.array([_ball(0), _ball(100), _ball(100.5)]), np.array([0.6, 0.9, 0.6]), np.array([0, 2, 0]))
+    c_alone = resolve_ball_classes(alone)
+    c_rival = resolve_ball_classes(rival)
+    assert c_alone.confidence[c_alone.class_id == 0][0] > c_rival.confidence[c_rival.class_id == 0][0]
