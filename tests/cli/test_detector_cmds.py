@@ -141,6 +141,11 @@ def test_export_only_init_rewrites_onnx_weights_with_the_current_graph(toy, tmp_
     assert main([*args, str(tmp_path / "missing.onnx")]) == 2
     assert "missing.onnx" in capsys.readouterr().err
     assert main([*args, str(default_model_path())]) == 0
+    other = tmp_path / "other.onnx"
+    other.write_bytes(default_model_path().read_bytes())
+    assert main([*args, str(other)]) == 2  # would overwrite a different OUT/detector.onnx
+    assert "exists" in capsys.readouterr().err
+    assert main([*args, str(out / "detector.onnx")]) == 0  # rewriting a file in place is asked for
     image = str(next((toy / "test" / "images").iterdir()))
     found = []
     for model in (default_model_path(), out / "detector.onnx"):

@@ -80,6 +80,8 @@ def run(args: argparse.Namespace) -> int:
         elif args.init and Path(args.init).suffix == ".onnx":
             if not Path(args.init).is_file():
                 raise ValueError(f"--init: no file {args.init}")
+            if onnx_path.exists() and not onnx_path.samefile(args.init):
+                raise ValueError(f"{onnx_path} exists; remove it or choose another --out (it would be overwritten)")
             Path(args.out).mkdir(parents=True, exist_ok=True)
             print(f"wrote {reexport_onnx(args.init, onnx_path, args.seed)} (the weights of {args.init})")
         elif args.int8 and onnx_path.exists():

@@ -32,7 +32,7 @@ def decode_peaks(
 
     Args:
         out: the model output for one image, non-peak cells already zeroed by the exported graph. Ball cells
-            are the "any ball" candidates; those of one ball are merged here by NMS (:func:`merged_ball_cells`).
+            are the "any ball" candidates; those of one ball are merged here (:func:`merged_ball_cells`).
         box: the letterbox used for the input, to map back to image pixels.
         conf_threshold: lowest peak score kept.
         max_detections: keep at most this many, the highest scores.

@@ -21,7 +21,7 @@ BALL_PEAK_RATIO = 0.6
 """A cell of the "any ball" heatmap is a ball candidate when it holds at least this share of the highest value in
 its 3x3 neighbourhood (1.0 would be a strict local maximum). Two touching far balls, 6-9 px wide, often have
 their centres in neighbouring stride-4 cells; a strict peak filter keeps only one of them. The decoder removes
-the extra candidates around a single ball by box NMS (``docs/detector.md``)."""
+the extra candidates around a single ball by box overlap (``docs/detector.md``)."""
 BALL_NMS_IOU = 0.5
 """IoU above which the decoder merges two "any ball" candidates into the higher-scoring one."""
 IMAGENET_MEAN = (0.485, 0.456, 0.406)

@@ -97,7 +97,7 @@ class ExportWrapper(nn.Module):
 
     A class or dot cell is a peak when it is the maximum of its 3x3 neighbourhood. An "any ball" cell is a
     candidate when it holds at least :data:`~pix2pockets.vision.heatmap_layout.BALL_PEAK_RATIO` of that maximum,
-    so touching balls in neighbouring cells both survive; the decoder merges candidates of one ball by NMS.
+    so touching balls in neighbouring cells both survive; the decoder merges the candidates of one ball.
     """
 
     def __init__(self, net: CenterNet) -> None:
@@ -112,7 +112,7 @@ class ExportWrapper(nn.Module):
         any_ball = heat[:, BALL_ANY : BALL_ANY + 1]
         near_peak = any_ball >= BALL_PEAK_RATIO * local_max[:, BALL_ANY : BALL_ANY + 1]
         ball_peak = (near_peak & (any_ball >= 0.01)).to(heat.dtype)
-        # Ball classes are read at the "any ball" candidates: after the decoder's NMS one per ball, four scores.
+        # Ball classes are read at the "any ball" candidates: after the decoder's merge one per ball, four scores.
         n_ball = len(BALL_IDS)
         dots = slice(n_ball, BALL_ANY)
         peaks = torch.cat([heat[:, :n_ball] * ball_peak, heat[:, dots] * is_peak[:, dots], any_ball * ball_peak], dim=1)
