@@ -72,26 +72,7 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"train-detector needs torch (pip install 'pix2pockets[train]'): {err}") from err
 
     if args.export_only:
-        from pix2pockets.vision.train.trainer import CHECKPOINT, ONNX_NAME, export_checkpoint, reexport_onnx
-
-        ckpt, onnx_path = Path(args.out) / CHECKPOINT, Path(args.out) / ONNX_NAME
-        if ckpt.exists():
-            print(f"wrote {export_checkpoint(ckpt, onnx_path)}")
-        elif args.init and Path(args.init).suffix == ".onnx":
-            if not Path(args.init).is_file():
-                raise ValueError(f"--init: no file {args.init}")
-            if onnx_path.exists() and not onnx_path.samefile(args.init):
-                raise ValueError(f"{onnx_path} exists; remove it or choose another --out (it would be overwritten)")
-            Path(args.out).mkdir(parents=True, exist_ok=True)
-            print(f"wrote {reexport_onnx(args.init, onnx_path, args.seed)} (the weights of {args.init})")
-        elif args.int8 and onnx_path.exists():
-            print(f"no checkpoint {ckpt}: quantising the existing {onnx_path}")
-        else:
-            raise ValueError(
-                f"--export-only: no checkpoint {ckpt}"
-                + ("" if args.int8 else f" (with --int8 an existing {onnx_path} is quantised on its own)")
-            )
-        return _quantize(args, onnx_path)
+        return _export_only(args)
     cfg = TrainConfig(
         data=tuple(args.data),
         out=args.out,
@@ -116,6 +97,31 @@ def run(args: argparse.Namespace) -> int:
     path = train(cfg, resume=args.resume, progress=not args.quiet)
     print(f"wrote {path}")
     return _quantize(args, path)
+
+
+def _export_only(args: argparse.Namespace) -> int:
+    """Write OUT/detector.onnx without training: from OUT/last.pt, from the weights of ``--init X.onnx``, or (with
+    ``--int8``) keep an existing one; then quantise it when asked."""
+    from pix2pockets.vision.train.trainer import CHECKPOINT, ONNX_NAME, export_checkpoint, reexport_onnx
+
+    ckpt, onnx_path = Path(args.out) / CHECKPOINT, Path(args.out) / ONNX_NAME
+    if ckpt.exists():
+        print(f"wrote {export_checkpoint(ckpt, onnx_path)}")
+    elif args.init and Path(args.init).suffix == ".onnx":
+        if not Path(args.init).is_file():
+            raise ValueError(f"--init: no file {args.init}")
+        if onnx_path.exists() and not onnx_path.samefile(args.init):
+            raise ValueError(f"{onnx_path} exists; remove it or choose another --out (it would be overwritten)")
+        Path(args.out).mkdir(parents=True, exist_ok=True)
+        print(f"wrote {reexport_onnx(args.init, onnx_path, args.seed)} (the weights of {args.init})")
+    elif args.int8 and onnx_path.exists():
+        print(f"no checkpoint {ckpt}: quantising the existing {onnx_path}")
+    else:
+        raise ValueError(
+            f"--export-only: no checkpoint {ckpt}"
+            + ("" if args.int8 else f" (with --int8 an existing {onnx_path} is quantised on its own)")
+        )
+    return _quantize(args, onnx_path)
 
 
 def _quantize(args: argparse.Namespace, fp32: Path) -> int:

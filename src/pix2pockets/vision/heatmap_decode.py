@@ -17,6 +17,7 @@ from pix2pockets.vision.heatmap_layout import (
     STRIDE,
 )
 from pix2pockets.vision.letterbox import Letterbox
+from pix2pockets.vision.postprocess import paired_box_iou
 
 
 def decode_peaks(
@@ -87,26 +88,14 @@ def merged_ball_cells(out: np.ndarray, conf_threshold: float = 0.05) -> np.ndarr
     ys, xs = np.mgrid[0:h, 0:w]
     size = np.exp(np.clip(out[SIZE_SLICE], -4.0, 6.0))
     centre = np.stack([xs, ys]) + out[OFFSET_SLICE]
-    lo, hi = centre - size / 2, centre + size / 2  # (2, h, w) box corners in cells
-    pad = ((1, 1), (1, 1))
-    heat_p = np.pad(heat, pad)
-    lo_p = np.pad(lo, ((0, 0), *pad))
-    hi_p = np.pad(hi, ((0, 0), *pad))
-    area = np.prod(hi - lo, axis=0)
+    boxes = np.concatenate([centre - size / 2, centre + size / 2]).transpose(1, 2, 0)  # (h, w, 4) in cells
+    heat_p = np.pad(heat, 1)
+    boxes_p = np.pad(boxes, ((1, 1), (1, 1), (0, 0)))
     merged = np.zeros((h, w), dtype=bool)
-    for dy in (-1, 0, 1):
-        for dx in (-1, 0, 1):
-            if dy == dx == 0:
-                continue
-            win = (slice(1 + dy, 1 + dy + h), slice(1 + dx, 1 + dx + w))
-            other = heat_p[win]
-            inter = np.prod(
-                np.clip(np.minimum(hi, hi_p[(slice(None), *win)]) - np.maximum(lo, lo_p[(slice(None), *win)]), 0, None),
-                axis=0,
-            )
-            other_area = np.prod(hi_p[(slice(None), *win)] - lo_p[(slice(None), *win)], axis=0)
-            iou = inter / np.maximum(area + other_area - inter, 1e-12)
-            merged |= (heat > 0) & (other > heat) & (iou >= BALL_NMS_IOU)
+    for dy, dx in ((dy, dx) for dy in (-1, 0, 1) for dx in (-1, 0, 1) if dy or dx):
+        win = (slice(1 + dy, 1 + dy + h), slice(1 + dx, 1 + dx + w))  # the neighbour in direction (dy, dx)
+        iou = paired_box_iou(boxes, boxes_p[win])
+        merged |= (heat > 0) & (heat_p[win] > heat) & (iou >= BALL_NMS_IOU)
     return merged
 
 
