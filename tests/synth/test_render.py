@@ -2,12 +2,14 @@
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 import pytest
 
+from pix2pockets.geometry.camera import PinholeCamera
+from pix2pockets.synth import labels, render, render_sample, render_views
 from pix2pockets.synth import raycast as rc
-from pix2pockets.synth import render, render_sample, render_views
-from pix2pockets.synth.renderer import parse_size
+from pix2pockets.synth.renderer import parse_size, scene_of, trace
 
 SIZE = (320, 180)
 SEEDS = list(range(8))
@@ -78,6 +80,34 @@ def test_diamonds_lie_on_rails(renders):
             assert not np.isin(around, [rc.ID_CLOTH, rc.ID_FLOOR, rc.ID_WALL]).all(), dot
             x0, y0, x1, y1 = dot["box_px"]
             assert x0 <= dot["px"][0] <= x1 and y0 <= dot["px"][1] <= y1
+
+
+def test_diamonds_are_labelled_only_when_they_show_in_the_photo(renders, monkeypatch):
+    signals, hidden = [], 0
+    for rend in renders.values():
+        for dot in rend.labels["diamonds"]:
+            if "signal" not in dot:
+                continue
+            signals.append(dot["signal"])
+            assert dot["labelled"] <= (dot["signal"] >= labels.DOT_MIN_SIGNAL)
+            hidden += dot["visible_fraction"] >= labels.DOT_MIN_VISIBLE and dot["signal"] < labels.DOT_MIN_SIGNAL
+    assert max(signals) > 50 and hidden >= 1  # plain sights show strongly; some are there but not seen
+    monkeypatch.setattr(labels, "DOT_MIN_SIGNAL", 256)
+    assert not any(d["labelled"] for d in render(SEEDS[0], SIZE).labels["diamonds"])
+
+
+def test_leaving_the_diamonds_out_changes_only_diamond_pixels():
+    rend = render(SEEDS[1], SIZE)
+    c = rend.labels["camera"]
+    cam = PinholeCamera(np.array(c["K"]), np.array(c["R"]), np.array(c["t"]), tuple(c["image_size"]))
+    scene = scene_of(SEEDS[1])
+    raw, ids, _, _ = trace(scene, cam)
+    raw_plain, ids_plain, _, _ = trace(scene, cam, diamonds=False)
+    on_diamond = (ids >= rc.ID_DIAMOND0) & (ids < rc.ID_DIAMOND0 + 18)
+    assert on_diamond.any() and not ((ids_plain >= rc.ID_DIAMOND0) & (ids_plain < rc.ID_DIAMOND0 + 18)).any()
+    near = cv2.dilate(on_diamond.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)  # anti-aliased edges
+    assert np.array_equal(raw[~near], raw_plain[~near]) and not np.array_equal(raw[near], raw_plain[near])
+    assert np.array_equal(ids_plain[on_diamond], np.full(on_diamond.sum(), rc.ID_CAP))
 
 
 def test_occluded_objects_are_flagged_and_left_out():

@@ -1,6 +1,7 @@
 import numpy as np
 import pytest
 
+from pix2pockets.vision.classes import DOT_ID, MIN_DOT_BOX_PX
 from pix2pockets.vision.heatmap_decode import decode_ball_peaks, decode_peaks
 from pix2pockets.vision.heatmap_layout import BALL_ANY, CONTACT_SLICE, N_OUT, OFFSET_SLICE, SIZE_SLICE, STRIDE
 from pix2pockets.vision.letterbox import Letterbox, letterbox
@@ -47,6 +48,22 @@ def test_decode_threshold_topk_and_dot_contact_nan():
     det = decode_peaks(out, Letterbox(1.0, (120, 80)), conf_threshold=0.05, max_detections=1)
     assert det.class_id.tolist() == [4] and np.all(np.isnan(det.contact))
     assert len(decode_peaks(out, Letterbox(1.0, (120, 80)), conf_threshold=0.05)) == 2
+
+
+def test_dot_boxes_keep_the_label_floor_at_any_input_scale():
+    out = _output()
+    out[4, 6, 8] = 0.8  # a dot predicted 2 x 6 px in the network input
+    out[OFFSET_SLICE, 6, 8] = [0.5, 0.5]
+    out[SIZE_SLICE, 6, 8] = np.log([2.0 / STRIDE, 6.0 / STRIDE])
+    out[2, 2, 2] = 0.9  # a 2 px solid keeps its size
+    out[SIZE_SLICE, 2, 2] = np.log(2.0 / STRIDE)
+    for scale in (1.0, 0.5):  # image at the network's size, and twice as large
+        det = decode_peaks(out, Letterbox(scale, (120, 80)))
+        dot, ball = det.boxes[det.class_id == DOT_ID][0], det.boxes[det.class_id == 2][0]
+        cx, cy = 8.5 * STRIDE / scale, 6.5 * STRIDE / scale
+        half_h = (MIN_DOT_BOX_PX + (6.0 - MIN_DOT_BOX_PX) / scale) / 2  # floor stays, the rest scales
+        assert np.allclose(dot, [cx - MIN_DOT_BOX_PX / 2, cy - half_h, cx + MIN_DOT_BOX_PX / 2, cy + half_h])
+        assert ball[2] - ball[0] == pytest.approx(2.0 / scale)
 
 
 def test_decode_agnostic_reads_ball_channel():

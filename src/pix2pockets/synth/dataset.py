@@ -62,11 +62,13 @@ def data_yaml() -> str:
         "test: test/images\n\n"
         f"nc: {len(CLASS_NAMES)}\n"
         f"names: [{names}]\n\n"
-        "# pix2pockets synthetic renders; boxes = visible extent of each ball, dots padded to >= 4 px.\n"
+        "# pix2pockets synthetic renders; boxes = visible extent of each ball, dots padded to >= 4 px\n"
+        "# (labelled only when they show in the photo).\n"
     )
 
 
-def _write_one(root: Path, split: str, stem: str, rend: Render) -> None:
+def write_sample(root: Path, split: str, stem: str, rend: Render) -> None:
+    """Write one render's image, YOLO label rows and meta JSON as ``root/split/{images,labels,meta}/stem.*``."""
     bgr = cv2.cvtColor(rend.image, cv2.COLOR_RGB2BGR)
     if not cv2.imwrite(str(root / split / "images" / f"{stem}.jpg"), bgr, [cv2.IMWRITE_JPEG_QUALITY, JPEG_QUALITY]):
         raise OSError(f"could not write image {stem}.jpg")
@@ -136,13 +138,13 @@ def write_dataset(
             if views == 1:
                 rend = render((seed, i), size)
                 stem = f"synth_{seed}_{i:06d}"
-                _write_one(tmp, s, stem, rend)
+                write_sample(tmp, s, stem, rend)
                 items.append({"image": f"{s}/images/{stem}.jpg", "scene": i, "camera": rend.labels["camera"]["kind"]})
             else:
                 for rend in render_views((seed, i), size):
                     stem = f"synth_{seed}_{i:06d}_{rend.labels['view']}"
                     rend.labels["scene_id"] = i
-                    _write_one(tmp, s, stem, rend)
+                    write_sample(tmp, s, stem, rend)
                     items.append({"image": f"{s}/images/{stem}.jpg", "scene": i, "view": rend.labels["view"]})
         manifest = {
             "generator": "pix2pockets.synth",
@@ -152,7 +154,10 @@ def write_dataset(
             "size": list(size),
             "split": list(fractions),
             "classes": list(CLASS_NAMES),
-            "box_convention": "visible extent of each ball (clipped to the image); dots: projected sight, >= 4 px",
+            "box_convention": (
+                "visible extent of each ball (clipped to the image); dots: projected sight, >= 4 px, labelled when "
+                "drawing it changes the photo by >= 12 of 255"
+            ),
             "counts": {s: sum(1 for it in items if it["image"].startswith(s + "/")) for s in SPLITS},
             "images": items,
         }

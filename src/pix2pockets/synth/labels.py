@@ -15,13 +15,18 @@ import numpy as np
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.synth import raycast as rc
 from pix2pockets.synth.scene import Scene
-from pix2pockets.vision.classes import CLASS_NAMES, DOT_ID
+from pix2pockets.vision.classes import CLASS_NAMES, DOT_ID, MIN_DOT_BOX_PX
 
 BALL_MIN_VISIBLE = 0.3
 """A ball goes into the YOLO labels when at least this fraction of its silhouette is visible."""
 BALL_MIN_PIXELS = 6
 DOT_MIN_VISIBLE = 0.5
-MIN_DOT_BOX_PX = 4.0
+DOT_MIN_SIGNAL = 12
+"""A diamond goes into the YOLO labels only when drawing it changes some pixel of the final photo (after
+blur, noise and compression) by at least this much (0-255, largest channel): a sight that is there in the
+geometry but cannot be seen (sub-pixel at a grazing angle, the rail's own colour, washed out by blur) is not
+something a detector, or a person labelling photos, can find."""
+DOT_SIGNAL_MARGIN_PX = 2
 CLASS_OF_NUMBER = {0: 0, 8: 1, **{n: 2 for n in range(1, 8)}, **{n: 3 for n in range(9, 16)}}
 
 
@@ -80,6 +85,14 @@ def _inside(p: np.ndarray, w: int, h: int) -> bool:
     return bool(np.all(np.isfinite(p)) and 0 <= p[0] < w and 0 <= p[1] < h)
 
 
+def _peak_in_box(values: np.ndarray, box: list[float], margin: int) -> int:
+    """Largest value of ``values`` (H, W) inside the xyxy box [px] grown by ``margin`` pixels."""
+    h, w = values.shape
+    x0, y0 = max(int(np.floor(box[0])) - margin, 0), max(int(np.floor(box[1])) - margin, 0)
+    x1, y1 = min(int(np.ceil(box[2])) + margin, w), min(int(np.ceil(box[3])) + margin, h)
+    return int(values[y0:y1, x0:x1].max()) if x1 > x0 and y1 > y0 else 0
+
+
 def camera_dict(cam: PinholeCamera, kind: str) -> dict:
     """The camera as JSON: intrinsics K, pose (R, t: X_cam = R X_world + t), image size and centre."""
     return {
@@ -98,6 +111,7 @@ def build_labels(
     ids: np.ndarray,
     occluded: np.ndarray,
     sil_count: np.ndarray,
+    diamond_signal: np.ndarray | None = None,
 ) -> dict:
     """Ball, diamond and corner labels for one render.
 
@@ -107,6 +121,8 @@ def build_labels(
         ids: id buffer from the ray caster (H, W).
         occluded: pixels covered by 2-D occluders or overlays (H, W) bool.
         sil_count: pixels per ball whose ray meets the ball's sphere, occluded or not (n,).
+        diamond_signal: per pixel, how much the diamonds change the final photo (H, W) [0-255]; when given,
+            a diamond is labelled only if it reaches ``DOT_MIN_SIGNAL`` within its box.
     """
     w, h = cam.image_size
     counts, hidden, boxes = rc.object_stats(ids, occluded, rc.ID_BALL0 + 16)
@@ -184,7 +200,12 @@ def build_labels(
             box = _clip_box(np.array([*(c - half), *(c + half)]), w, h)
             entry["box_px"] = box
             entry["visible_fraction"] = round(float(vis), 4)
-            entry["labelled"] = bool(in_frame and box is not None and vis >= DOT_MIN_VISIBLE)
+            seen = True
+            if diamond_signal is not None and box is not None:
+                signal = _peak_in_box(diamond_signal, box, DOT_SIGNAL_MARGIN_PX)
+                entry["signal"] = signal
+                seen = signal >= DOT_MIN_SIGNAL
+            entry["labelled"] = bool(in_frame and box is not None and vis >= DOT_MIN_VISIBLE and seen)
         diamonds.append(entry)
 
     corners = []

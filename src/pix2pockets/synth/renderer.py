@@ -3,6 +3,7 @@ pipeline -> labels."""
 
 from __future__ import annotations
 
+import copy
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
@@ -73,9 +74,12 @@ def parse_size(text: str) -> tuple[int, int]:
     return w, h
 
 
-def trace(scene: Scene, cam: PinholeCamera) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+def trace(
+    scene: Scene, cam: PinholeCamera, diamonds: bool = True
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
     """Ray cast ``scene`` through ``cam``: raw RGB (H, W, 3) float32, ids (H, W) int16, depth along each
-    ray (H, W) float32 [m], silhouette pixel counts per ball (n,)."""
+    ray (H, W) float32 [m], silhouette pixel counts per ball (n,). ``diamonds=False`` leaves the sights out
+    (plain rail caps), for measuring how much each diamond shows."""
     w, h = cam.image_size
     centres = scene.ball_centres
     n = len(centres)
@@ -104,7 +108,7 @@ def trace(scene: Scene, cam: PinholeCamera) -> tuple[np.ndarray, np.ndarray, np.
         scene.shade,
         scene.mats,
         scene.holes,
-        scene.spec.diamonds.astype(np.float64),
+        scene.spec.diamonds.astype(np.float64) if diamonds else np.zeros((0, 2)),
         centres.reshape(-1, 3).astype(np.float64),
         scene.rotations.reshape(-1, 3, 3).astype(np.float64),
         cols,
@@ -232,16 +236,38 @@ def _add_occluders(
     return mask, used
 
 
+def _photograph(
+    raw: np.ndarray,
+    depth: np.ndarray,
+    scene: Scene,
+    cam: PinholeCamera,
+    kind: str,
+    exposure: float,
+    rng: np.random.Generator,
+    strength: float,
+) -> tuple[np.ndarray, np.ndarray, list[str], dict]:
+    """Raw radiance -> uint8 photo: tone map, occluders, camera pipeline. Returns the image, the occluder
+    mask, the occluders drawn and the pipeline's settings."""
+    img = fx.tone_map(raw, exposure, rng.uniform(0.85, 1.2), rng.uniform(0.75, 1.25))
+    occluded, used = _add_occluders(img, depth, scene, cam, kind, rng, strength)
+    image, pipeline = fx.camera_pipeline(img, rng, strength)
+    return image, occluded, used, pipeline
+
+
 def render_scene_view(
     scene: Scene, cam: PinholeCamera, kind: str, rng: np.random.Generator, strength: float = 1.0
 ) -> Render:
     """Render ``scene`` through ``cam`` with occluders and the camera pipeline drawn from ``rng``."""
     raw, ids, depth, sil = trace(scene, cam)
     exposure = _exposure(scene, raw, ids) * rng.uniform(0.75, 1.3)
-    img = fx.tone_map(raw, exposure, rng.uniform(0.85, 1.2), rng.uniform(0.75, 1.25))
-    occluded, used = _add_occluders(img, depth, scene, cam, kind, rng, strength)
-    image, pipeline = fx.camera_pipeline(img, rng, strength)
-    labels = build_labels(scene, cam, ids, occluded, sil)
+    rng_plain = copy.deepcopy(rng)
+    image, occluded, used, pipeline = _photograph(raw, depth, scene, cam, kind, exposure, rng, strength)
+    # The same photo without the diamonds (same occluders, blur and noise): what each diamond adds to the
+    # final pixels decides whether it can be seen at all.
+    raw_plain = trace(scene, cam, diamonds=False)[0]
+    plain = _photograph(raw_plain, depth, scene, cam, kind, exposure, rng_plain, strength)[0]
+    signal = np.abs(image.astype(np.int16) - plain.astype(np.int16)).max(axis=2)
+    labels = build_labels(scene, cam, ids, occluded, sil, diamond_signal=signal)
     labels["image_size"] = list(cam.image_size)
     labels["camera"] = camera_dict(cam, kind)
     labels["style"] = {k: v for k, v in scene.style.items() if k != "ball_jitter"}

@@ -22,6 +22,9 @@ CLASS_NAMES: tuple[str, ...] = tuple(c.value for c in DetClass)
 
 DOT_ID = CLASS_NAMES.index("dot")
 BALL_IDS = tuple(range(4))
+MIN_DOT_BOX_PX = 4.0
+"""Smallest side of a diamond box [px]: the synthetic labels pad a sight's outline to it, and the decoder maps
+the network's floor to the same floor in image pixels at any input scale (``heatmap_decode``)."""
 
 DETECTION_CAPS: tuple[int, ...] = (
     CLASS_CAPS[BallClass.CUE],

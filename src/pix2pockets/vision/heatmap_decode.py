@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from pix2pockets.vision.classes import BALL_IDS
+from pix2pockets.vision.classes import BALL_IDS, DOT_ID, MIN_DOT_BOX_PX
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.heatmap_layout import (
     BALL_ANY,
@@ -131,8 +131,22 @@ def _assemble(
     boxes = np.hstack([centre - size / 2, centre + size / 2])
     contact = (np.stack([xs, ys], axis=1) + out[CONTACT_SLICE, ys, xs].T) * STRIDE
     boxes, contact = box.to_image(boxes), box.to_image(contact)
+    dots = cls == DOT_ID
+    if np.any(dots):
+        boxes[dots] = _dot_boxes(box.to_image(centre[dots]), size[dots], box.scale)
     if image_size is not None:
         w, h = image_size
         boxes = np.clip(boxes, 0, [w, h, w, h])
     contact = np.where(is_ball[:, None], contact, np.nan)
     return Detections(boxes, scores, cls, contact)
+
+
+def _dot_boxes(centre: np.ndarray, size_net: np.ndarray, scale: float) -> np.ndarray:
+    """Diamond boxes (n, 4) in image pixels from centres [image px] and predicted sizes [network px].
+
+    The training labels pad a sight's outline to :data:`MIN_DOT_BOX_PX` in the pixels the network sees, so a
+    predicted size at that floor means "a sight this small or smaller", whatever the input scale: it maps to
+    the same floor in image pixels, and only the part above the floor scales with the image.
+    """
+    size = MIN_DOT_BOX_PX + np.maximum(size_net - MIN_DOT_BOX_PX, 0.0) / scale
+    return np.hstack([centre - size / 2, centre + size / 2])
