@@ -10,6 +10,7 @@ single-core number), split by stage, after a warm-up render that compiles/loads 
 from __future__ import annotations
 
 import argparse
+import copy
 import json
 import os
 import platform
@@ -43,12 +44,16 @@ def run(n: int, size: tuple[int, int], seed: int) -> dict:
         t = lap("scene+camera", t)
         raw, ids, depth, sil = rnd.trace(scene, cam)
         t = lap("ray cast", t)
-        img = fx.tone_map(raw, rnd._exposure(scene, raw, ids), 1.0, 1.0)
+        exposure = rnd._exposure(scene, raw, ids)
+        r_plain = copy.deepcopy(r_fx)
+        img = fx.tone_map(raw, exposure, r_fx.uniform(0.85, 1.2), r_fx.uniform(0.75, 1.25))  # as _photograph
         occ, _ = rnd._add_occluders(img, depth, scene, cam, kind, r_fx, 1.0)
         t = lap("occluders", t)
-        fx.camera_pipeline(img, r_fx)
+        image, _ = fx.camera_pipeline(img, r_fx)
         t = lap("camera pipeline", t)
-        build_labels(scene, cam, ids, occ, sil)
+        signal = rnd.diamond_signal(image, scene, cam, kind, depth, exposure, r_plain, 1.0)
+        t = lap("diamond visibility (photo without diamonds)", t)
+        build_labels(scene, cam, ids, occ, sil, diamond_signal=signal)
         lap("labels", t)
     wall = time.perf_counter() - wall0
     cpu = time.process_time() - cpu0

@@ -254,6 +254,27 @@ def _photograph(
     return image, occluded, used, pipeline
 
 
+def diamond_signal(
+    image: np.ndarray,
+    scene: Scene,
+    cam: PinholeCamera,
+    kind: str,
+    depth: np.ndarray,
+    exposure: float,
+    rng: np.random.Generator,
+    strength: float,
+) -> np.ndarray:
+    """How much the diamonds change each pixel of the finished ``image`` (H, W) [0-255, largest channel].
+
+    The photo is taken again without the diamonds, with ``rng`` in the state the first photo started from
+    (same occluders, blur, noise and compression), so what is left is what the diamonds add: whether a
+    sight can be seen at all after blur and against its rail.
+    """
+    raw_plain = trace(scene, cam, diamonds=False)[0]
+    plain = _photograph(raw_plain, depth, scene, cam, kind, exposure, rng, strength)[0]
+    return np.abs(image.astype(np.int16) - plain.astype(np.int16)).max(axis=2)
+
+
 def render_scene_view(
     scene: Scene, cam: PinholeCamera, kind: str, rng: np.random.Generator, strength: float = 1.0
 ) -> Render:
@@ -262,11 +283,7 @@ def render_scene_view(
     exposure = _exposure(scene, raw, ids) * rng.uniform(0.75, 1.3)
     rng_plain = copy.deepcopy(rng)
     image, occluded, used, pipeline = _photograph(raw, depth, scene, cam, kind, exposure, rng, strength)
-    # The same photo without the diamonds (same occluders, blur and noise): what each diamond adds to the
-    # final pixels decides whether it can be seen at all.
-    raw_plain = trace(scene, cam, diamonds=False)[0]
-    plain = _photograph(raw_plain, depth, scene, cam, kind, exposure, rng_plain, strength)[0]
-    signal = np.abs(image.astype(np.int16) - plain.astype(np.int16)).max(axis=2)
+    signal = diamond_signal(image, scene, cam, kind, depth, exposure, rng_plain, strength)
     labels = build_labels(scene, cam, ids, occluded, sil, diamond_signal=signal)
     labels["image_size"] = list(cam.image_size)
     labels["camera"] = camera_dict(cam, kind)
