@@ -27,6 +27,7 @@ blur, noise and compression) by at least this much (0-255, largest channel): a s
 geometry but cannot be seen (sub-pixel at a grazing angle, the rail's own colour, washed out by blur) is not
 something a detector, or a person labelling photos, can find."""
 DOT_SIGNAL_MARGIN_PX = 2
+"""The signal is looked for this far around a diamond's box [px] (blur spreads a small sight)."""
 CLASS_OF_NUMBER = {0: 0, 8: 1, **{n: 2 for n in range(1, 8)}, **{n: 3 for n in range(9, 16)}}
 
 
