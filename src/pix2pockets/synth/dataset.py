@@ -16,7 +16,8 @@ from __future__ import annotations
 import json
 import os
 import shutil
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from pathlib import Path
 
 import cv2
@@ -78,6 +79,37 @@ def write_sample(root: Path, split: str, stem: str, rend: Render) -> None:
     (root / split / "meta" / f"{stem}.json").write_text(json.dumps(meta, indent=1))
 
 
+@contextmanager
+def staged_dataset(out_dir: str | os.PathLike, force: bool = False) -> Iterator[Path]:
+    """A folder ``OUT.partial`` with empty split folders to write a dataset into; it becomes ``out_dir`` only
+    when the block finishes, and is removed if it raises (never a half-written dataset).
+
+    Raises:
+        ValueError: if ``out_dir`` is a file, or a non-empty folder and not ``force`` (with ``force`` it is
+            cleared on entry).
+    """
+    root = Path(out_dir)
+    if root.exists() and not root.is_dir():
+        raise ValueError(f"{root} exists and is not a directory")
+    if root.exists() and any(root.iterdir()):
+        if not force:
+            raise ValueError(f"{root} is not empty; use --force to overwrite")
+        shutil.rmtree(root)
+    tmp = root.with_name(root.name + ".partial")
+    shutil.rmtree(tmp, ignore_errors=True)
+    for s in SPLITS:
+        for sub in ("images", "labels", "meta"):
+            (tmp / s / sub).mkdir(parents=True, exist_ok=True)
+    try:
+        yield tmp
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    if root.exists():
+        root.rmdir()
+    tmp.rename(root)
+
+
 def write_dataset(
     out_dir: str | os.PathLike,
     n: int,
@@ -112,19 +144,6 @@ def write_dataset(
     fractions = tuple(float(f) for f in split)
     if len(fractions) != 3 or min(fractions) < 0 or abs(sum(fractions) - 1) > 1e-6:
         raise ValueError(f"split must be three non-negative fractions summing to 1, got {split!r}")
-    root = Path(out_dir)
-    if root.exists() and not root.is_dir():
-        raise ValueError(f"{root} exists and is not a directory")
-    if root.exists() and any(root.iterdir()):
-        if not force:
-            raise ValueError(f"{root} is not empty; use --force to overwrite")
-        shutil.rmtree(root)
-    tmp = root.with_name(root.name + ".partial")
-    if tmp.exists():
-        shutil.rmtree(tmp)
-    for s in SPLITS:
-        for sub in ("images", "labels", "meta"):
-            (tmp / s / sub).mkdir(parents=True, exist_ok=True)
     assignment = split_assignment(n, fractions, seed)
     items = []
     iterator = range(n)
@@ -132,7 +151,7 @@ def write_dataset(
         from tqdm import tqdm
 
         iterator = tqdm(iterator, desc="synth", unit="scene" if views > 1 else "img")
-    try:
+    with staged_dataset(out_dir, force) as tmp:
         for i in iterator:
             s = assignment[i]
             if views == 1:
@@ -163,10 +182,4 @@ def write_dataset(
         }
         (tmp / "manifest.json").write_text(json.dumps(manifest, indent=1))
         (tmp / "data.yaml").write_text(data_yaml())
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    if root.exists():
-        root.rmdir()
-    tmp.rename(root)
     return manifest

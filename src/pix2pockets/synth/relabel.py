@@ -12,13 +12,12 @@ from __future__ import annotations
 
 import json
 import os
-import shutil
 from pathlib import Path
 
 import cv2
 import numpy as np
 
-from pix2pockets.synth.dataset import JPEG_QUALITY, SPLITS, data_yaml, write_sample
+from pix2pockets.synth.dataset import JPEG_QUALITY, SPLITS, data_yaml, staged_dataset, write_sample
 from pix2pockets.synth.renderer import Render, render, render_views
 
 
@@ -69,15 +68,6 @@ def relabel_dataset(
         raise ValueError(f"{src_root} has no {{train,valid,test}}/meta/*.json files: not a pix2pockets synth dataset")
     if root.resolve() == src_root.resolve():
         raise ValueError("the output folder must differ from the source; the source is never modified")
-    if root.exists() and any(root.iterdir()):
-        if not force:
-            raise ValueError(f"{root} is not empty; use --force to overwrite")
-        shutil.rmtree(root)
-    tmp = root.with_name(root.name + ".partial")
-    shutil.rmtree(tmp, ignore_errors=True)
-    for s in SPLITS:
-        for sub in ("images", "labels", "meta"):
-            (tmp / s / sub).mkdir(parents=True, exist_ok=True)
     counts = dict.fromkeys(SPLITS, 0)
     cache: dict = {}
     iterator = metas
@@ -85,7 +75,7 @@ def relabel_dataset(
         from tqdm import tqdm
 
         iterator = tqdm(metas, desc="relabel", unit="img")
-    try:
+    with staged_dataset(root, force) as tmp:
         for path in iterator:
             split = path.parent.parent.name
             meta = json.loads(path.read_text())
@@ -99,10 +89,4 @@ def relabel_dataset(
             write_sample(tmp, split, path.stem, rend)
             counts[split] += 1
         (tmp / "data.yaml").write_text(data_yaml())
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    if root.exists():
-        root.rmdir()
-    tmp.rename(root)
     return counts
