@@ -51,7 +51,7 @@ def run(n: int, size: tuple[int, int], seed: int) -> dict:
         t = lap("occluders", t)
         image, _ = fx.camera_pipeline(img, r_fx)
         t = lap("camera pipeline", t)
-        signal = rnd.diamond_signal(image, scene, cam, kind, depth, exposure, r_plain, 1.0)
+        signal = rnd.diamond_signal(image, scene, cam, kind, raw, ids, depth, exposure, r_plain, 1.0)
         t = lap("diamond visibility (photo without diamonds)", t)
         build_labels(scene, cam, ids, occ, sil, diamond_signal=signal)
         lap("labels", t)

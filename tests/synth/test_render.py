@@ -9,7 +9,7 @@ import pytest
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.synth import labels, render, render_sample, render_views
 from pix2pockets.synth import raycast as rc
-from pix2pockets.synth.renderer import parse_size, scene_of, trace
+from pix2pockets.synth.renderer import parse_size, scene_of, trace, trace_without_diamonds
 
 SIZE = (320, 180)
 SEEDS = list(range(8))
@@ -108,6 +108,18 @@ def test_leaving_the_diamonds_out_changes_only_diamond_pixels():
     near = cv2.dilate(on_diamond.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)  # anti-aliased edges
     assert np.array_equal(raw[~near], raw_plain[~near]) and not np.array_equal(raw[near], raw_plain[near])
     assert np.array_equal(ids_plain[on_diamond], np.full(on_diamond.sum(), rc.ID_CAP))
+
+
+def test_retracing_only_around_the_diamonds_matches_a_full_trace_without_them():
+    for seed in SEEDS[:2]:
+        rend = render(seed, SIZE)
+        c = rend.labels["camera"]
+        cam = PinholeCamera(np.array(c["K"]), np.array(c["R"]), np.array(c["t"]), tuple(c["image_size"]))
+        scene = scene_of(seed)
+        raw, ids, depth, _ = trace(scene, cam)
+        fast = trace_without_diamonds(scene, cam, raw, ids, depth)
+        assert np.array_equal(fast, trace(scene, cam, diamonds=False)[0])
+        assert not np.array_equal(fast, raw)  # the sights were there and are gone
 
 
 def test_occluded_objects_are_flagged_and_left_out():

@@ -768,16 +768,20 @@ def render_scene(
     ids,
     depth,
     sil_count,
+    mask,
 ):
-    """Trace and shade every pixel. Writes ``rgb`` (H, W, 3), ``ids`` (H, W), ``depth`` (H, W): distance
-    along the ray to the hit [m], and ``sil_count`` (n balls,): the number of pixels whose ray meets each
-    ball's sphere at all (occluded or not).
+    """Trace and shade the pixels where ``mask`` (H, W) is set. Writes ``rgb`` (H, W, 3), ``ids`` (H, W),
+    ``depth`` (H, W): distance along the ray to the hit [m], and ``sil_count`` (n balls,): the number of
+    traced pixels whose ray meets each ball's sphere at all (occluded or not). Pixels outside ``mask`` keep
+    what the arrays hold.
 
     Pixels on object boundaries (an id differs from a 4-neighbour) get four more rays on a rotated grid
     and the mean colour (adaptive anti-aliasing); ids, depth and counts come from the centre ray.
     """
     for v in range(height):
         for u in range(width):
+            if not mask[v, u]:
+                continue
             r, g, b, hit, t = _pixel(
                 u + 0.5,
                 v + 0.5,
@@ -811,6 +815,8 @@ def render_scene(
             depth[v, u] = t
     for v in range(height):
         for u in range(width):
+            if not mask[v, u]:
+                continue
             k = ids[v, u]
             edge = (
                 (u > 0 and ids[v, u - 1] != k)

@@ -7,6 +7,7 @@ import copy
 from collections.abc import Sequence
 from dataclasses import dataclass, replace
 
+import cv2
 import numpy as np
 
 from pix2pockets.geometry.camera import PinholeCamera
@@ -81,6 +82,47 @@ def trace(
     ray (H, W) float32 [m], silhouette pixel counts per ball (n,). ``diamonds=False`` leaves the sights out
     (plain rail caps), for measuring how much each diamond shows."""
     w, h = cam.image_size
+    rgb = np.zeros((h, w, 3), np.float32)
+    ids = np.zeros((h, w), np.int16)
+    depth = np.zeros((h, w), np.float32)
+    sil = _trace_into(scene, cam, diamonds, rgb, ids, depth, np.ones((h, w), np.uint8))
+    return rgb, ids, depth, sil
+
+
+DIAMOND_RETRACE_MARGIN_PX = 2
+"""Pixels this close to a diamond pixel are traced again without the diamonds: the diamond pixels, their
+anti-aliased edges, and the neighbours that decide whether those are edges."""
+
+
+def trace_without_diamonds(
+    scene: Scene, cam: PinholeCamera, raw: np.ndarray, ids: np.ndarray, depth: np.ndarray
+) -> np.ndarray:
+    """Raw RGB (H, W, 3) of the view of :func:`trace`'s ``raw, ids, depth`` with plain rail caps.
+
+    Only the pixels within :data:`DIAMOND_RETRACE_MARGIN_PX` of a diamond pixel are traced again; every
+    other pixel is the same with or without the sights and is copied. Same result as
+    ``trace(scene, cam, diamonds=False)[0]`` for a fraction of the cost.
+    """
+    on_diamond = (ids >= rc.ID_DIAMOND0) & (ids < rc.ID_DIAMOND0 + len(scene.spec.diamonds))
+    side = 2 * DIAMOND_RETRACE_MARGIN_PX + 1
+    mask = cv2.dilate(on_diamond.astype(np.uint8), np.ones((side, side), np.uint8))
+    rgb, ids_plain, depth_plain = raw.copy(), ids.copy(), depth.copy()
+    if mask.any():
+        _trace_into(scene, cam, False, rgb, ids_plain, depth_plain, mask)
+    return rgb
+
+
+def _trace_into(
+    scene: Scene,
+    cam: PinholeCamera,
+    diamonds: bool,
+    rgb: np.ndarray,
+    ids: np.ndarray,
+    depth: np.ndarray,
+    mask: np.ndarray,
+) -> np.ndarray:
+    """Trace the pixels where ``mask`` is set into ``rgb``, ``ids``, ``depth``; returns silhouette counts."""
+    w, h = cam.image_size
     centres = scene.ball_centres
     n = len(centres)
     bboxes = np.full((n, 4), -1, np.int64)
@@ -94,9 +136,6 @@ def trace(
         hi = np.ceil(outline.max(axis=0)) + 2
         bboxes[i] = [max(lo[0], -1), max(lo[1], -1), min(hi[0], w + 1), min(hi[1], h + 1)]
     cols, kinds, nums = scene.ball_arrays()
-    rgb = np.zeros((h, w, 3), np.float32)
-    ids = np.zeros((h, w), np.int16)
-    depth = np.zeros((h, w), np.float32)
     sil = np.zeros(n, np.int64)
     rc.render_scene(
         np.linalg.inv(cam.K),
@@ -125,8 +164,9 @@ def trace(
         ids,
         depth,
         sil,
+        mask,
     )
-    return rgb, ids, depth, sil
+    return sil
 
 
 def _exposure(scene: Scene, rgb: np.ndarray, ids: np.ndarray) -> float:
@@ -259,6 +299,8 @@ def diamond_signal(
     scene: Scene,
     cam: PinholeCamera,
     kind: str,
+    raw: np.ndarray,
+    ids: np.ndarray,
     depth: np.ndarray,
     exposure: float,
     rng: np.random.Generator,
@@ -270,7 +312,7 @@ def diamond_signal(
     (same occluders, blur, noise and compression), so what is left is what the diamonds add: whether a
     sight can be seen at all after blur and against its rail.
     """
-    raw_plain = trace(scene, cam, diamonds=False)[0]
+    raw_plain = trace_without_diamonds(scene, cam, raw, ids, depth)
     plain = _photograph(raw_plain, depth, scene, cam, kind, exposure, rng, strength)[0]
     return np.abs(image.astype(np.int16) - plain.astype(np.int16)).max(axis=2)
 
@@ -283,7 +325,7 @@ def render_scene_view(
     exposure = _exposure(scene, raw, ids) * rng.uniform(0.75, 1.3)
     rng_plain = copy.deepcopy(rng)
     image, occluded, used, pipeline = _photograph(raw, depth, scene, cam, kind, exposure, rng, strength)
-    signal = diamond_signal(image, scene, cam, kind, depth, exposure, rng_plain, strength)
+    signal = diamond_signal(image, scene, cam, kind, raw, ids, depth, exposure, rng_plain, strength)
     labels = build_labels(scene, cam, ids, occluded, sil, diamond_signal=signal)
     labels["image_size"] = list(cam.image_size)
     labels["camera"] = camera_dict(cam, kind)
