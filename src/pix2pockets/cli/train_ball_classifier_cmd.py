@@ -23,6 +23,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--lr", type=float, default=3e-3, help="peak learning rate (default 3e-3)")
     parser.add_argument("--threads", type=int, default=1, help="torch CPU threads (default 1)")
     parser.add_argument("--widths", default="16,32,64", help="channels of the three network stages (default 16,32,64)")
+    parser.add_argument(
+        "--head",
+        choices=("grid", "mean"),
+        default="grid",
+        help="read the 4x4-pooled feature map (grid, default) or its mean over the crop (mean, the v2 classifier)",
+    )
+    parser.add_argument("--copies", type=int, default=1, help="jittered crops per labelled ball (default 1)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
@@ -43,6 +50,8 @@ def run(args: argparse.Namespace) -> int:
         lr=args.lr,
         threads=args.threads,
         widths=_widths(args.widths),
+        head=args.head,
+        copies=args.copies,
     )
     print(f"wrote {train_crop_classifier(cfg, progress=not args.quiet)}")
     return 0

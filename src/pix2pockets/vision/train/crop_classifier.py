@@ -1,7 +1,10 @@
 """Train the second-stage ball classifier (cue, black, solid, stripe, no ball) on crops and export it to ONNX.
 
-A small VGG-style network on 32 px crops: three stages of two 3x3 convolutions (16, 32, 64 channels),
-global average pooling, a linear layer. About 70 k parameters, about 6 MFLOPs per crop.
+A small VGG-style network on 32 px crops: three stages of two 3x3 convolutions (16, 32, 64 channels), then
+a head: ``"grid"`` (default) pools the 8x8 feature map to 4x4 and reads it with one linear layer, so the
+class can depend on *where* colour sits in the crop (a white disc that fills the ball's outline is the cue
+ball; a white cap inside a coloured ring is a stripe seen from its pole); ``"mean"`` averages the feature
+map over the crop first (the v2 classifier). About 80 k parameters, about 6 MFLOPs per crop.
 """
 
 from __future__ import annotations
@@ -15,6 +18,7 @@ import numpy as np
 import torch
 from torch import nn
 
+from pix2pockets.vision.ball_crops import CROP_SIZE
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.train.crop_data import CROP_LABELS, CropConfig, collect_crops
 from pix2pockets.vision.train.onnx_export import write_onnx
@@ -34,18 +38,32 @@ def _block(cin: int, cout: int) -> nn.Sequential:
     )
 
 
-class CropNet(nn.Module):
-    """Logits (N, 5) for crops given as uint8-valued floats (N, 3, S, S) in RGB."""
+HEADS = ("grid", "mean")
+"""Classifier heads: a linear layer on the 4x4-pooled feature map, or on its mean over the crop."""
 
-    def __init__(self, widths: tuple[int, int, int] = (16, 32, 64)) -> None:
+
+class CropNet(nn.Module):
+    """Logits (N, 5) for crops given as uint8-valued floats (N, 3, S, S) in RGB, S = ``crop_size``."""
+
+    def __init__(
+        self, widths: tuple[int, int, int] = (16, 32, 64), head: str = "grid", crop_size: int = CROP_SIZE
+    ) -> None:
         super().__init__()
+        if head not in HEADS:
+            raise ValueError(f"head must be one of {HEADS}, got {head!r}")
         a, b, c = widths
+        self.head = head
         self.features = nn.Sequential(_block(3, a), nn.MaxPool2d(2), _block(a, b), nn.MaxPool2d(2), _block(b, c))
-        self.fc = nn.Linear(c, len(CROP_LABELS))
+        if head == "grid":
+            cells = (crop_size // 8) ** 2  # two 2x poolings in the features, one more here
+            linear = nn.Linear(c * cells, len(CROP_LABELS))
+            self.fc = nn.Sequential(nn.MaxPool2d(2), nn.Flatten(), nn.Dropout(0.2), linear)
+        else:
+            self.fc = nn.Linear(c, len(CROP_LABELS))
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
-        x = x / 127.5 - 1.0
-        return self.fc(self.features(x).mean(dim=(2, 3)))
+        x = self.features(x / 127.5 - 1.0)
+        return self.fc(x) if self.head == "grid" else self.fc(x.mean(dim=(2, 3)))
 
 
 class _Exported(nn.Module):
@@ -75,6 +93,8 @@ class CropTrainConfig:
         threads: torch CPU threads.
         class_power: loss weight of a class is frequency ** -class_power (0: unweighted).
         widths: channels of the network's three stages.
+        head: ``"grid"`` or ``"mean"`` (see the module docstring).
+        copies: jittered crops per labelled ball and image.
     """
 
     data: tuple[str, ...]
@@ -88,6 +108,8 @@ class CropTrainConfig:
     threads: int = 1
     class_power: float = 0.5
     widths: tuple[int, int, int] = (16, 32, 64)
+    head: str = "grid"
+    copies: int = 1
 
     def __post_init__(self) -> None:
         if not self.data:
@@ -98,6 +120,10 @@ class CropTrainConfig:
             raise ValueError(f"class_power must be in [0, 1], got {self.class_power}")
         if len(self.widths) != 3 or min(self.widths) < 1:
             raise ValueError(f"widths must be three positive channel counts, got {self.widths}")
+        if self.head not in HEADS:
+            raise ValueError(f"head must be one of {HEADS}, got {self.head!r}")
+        if self.copies < 1:
+            raise ValueError(f"copies must be >= 1, got {self.copies}")
 
 
 def _sources(cfg: CropTrainConfig, split: str) -> list:
@@ -157,7 +183,8 @@ def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
     torch.manual_seed(cfg.seed)
     out = Path(cfg.out)
     out.mkdir(parents=True, exist_ok=True)
-    crops, labels = collect_crops(_sources(cfg, "train"), read_image_rgb, cfg.seed, CropConfig(), progress)
+    train = _sources(cfg, "train")
+    crops, labels = collect_crops(train, read_image_rgb, cfg.seed, CropConfig(copies=cfg.copies), progress)
     test = _sources(cfg, "test")
     test_crops, test_labels = (
         collect_crops(test, read_image_rgb, cfg.seed + 1, CropConfig(copies=1), progress) if test else (None, None)
@@ -166,7 +193,7 @@ def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
     weight = np.where(counts > 0, np.maximum(counts, 1) ** -cfg.class_power, 0.0)
     weight = torch.tensor(weight / (weight * counts).sum() * counts.sum(), dtype=torch.float32)
 
-    model = CropNet(cfg.widths)
+    model = CropNet(cfg.widths, cfg.head, crops.shape[1])
     opt = torch.optim.AdamW(model.parameters(), lr=cfg.lr, weight_decay=1e-4)
     gen = torch.Generator().manual_seed(cfg.seed)
     order_rng = np.random.default_rng(cfg.seed)

@@ -1,0 +1,68 @@
+"""The crop classifier network: both heads give five classes; the grid head can tell where colour sits."""
+
+import numpy as np
+import pytest
+
+torch = pytest.importorskip("torch")
+
+from pix2pockets.vision.ball_classifier import BallClassifier  # noqa: E402
+from pix2pockets.vision.ball_crops import CROP_SIZE  # noqa: E402
+from pix2pockets.vision.train.crop_classifier import (  # noqa: E402
+    CropNet,
+    CropTrainConfig,
+    export_crop_classifier,
+)
+
+
+@pytest.mark.parametrize("head", ["grid", "mean"])
+def test_both_heads_give_five_logits_per_crop(head):
+    net = CropNet((4, 8, 8), head).eval()
+    assert net(torch.zeros(3, 3, CROP_SIZE, CROP_SIZE)).shape == (3, 5)
+
+
+def test_unknown_head_and_bad_copies_are_refused():
+    with pytest.raises(ValueError, match="head"):
+        CropNet(head="max")
+    with pytest.raises(ValueError, match="head"):
+        CropTrainConfig(data=("d",), out="o", head="max")
+    with pytest.raises(ValueError, match="copies"):
+        CropTrainConfig(data=("d",), out="o", copies=0)
+
+
+def _disc_and_cap() -> tuple[torch.Tensor, torch.Tensor]:
+    """A white disc filling the ball's outline (label 0, cue) and a smaller white cap (label 3, a stripe seen
+    from its pole with the band the colour of the cloth), at the same mean brightness."""
+    yy, xx = np.mgrid[0:CROP_SIZE, 0:CROP_SIZE] + 0.5
+    r = np.hypot(xx - CROP_SIZE / 2, yy - CROP_SIZE / 2)
+    disc = np.where(r < CROP_SIZE / 3, 200.0, 80.0)
+    cap = np.where(r < CROP_SIZE / 5, 200.0, 80.0)
+    cap *= disc.mean() / cap.mean()
+    x = torch.tensor(np.stack([disc, cap]), dtype=torch.float32)[:, None].repeat(1, 3, 1, 1)
+    return x, torch.tensor([0, 3])
+
+
+def test_grid_head_learns_to_tell_a_full_disc_from_a_cap():
+    torch.manual_seed(0)
+    x, y = _disc_and_cap()
+    net = CropNet((4, 8, 8), "grid")
+    opt = torch.optim.Adam(net.parameters(), lr=1e-2)
+    for _ in range(40):
+        loss = torch.nn.functional.cross_entropy(net(x), y)
+        opt.zero_grad()
+        loss.backward()
+        opt.step()
+    net.eval()
+    assert torch.equal(net(x).argmax(1), y)
+
+
+def test_exported_classifier_runs_in_onnxruntime(tmp_path):
+    net = CropNet((4, 8, 8), "grid").eval()
+    path = export_crop_classifier(net, tmp_path / "clf.onnx", CROP_SIZE)
+    clf = BallClassifier(path)
+    image = np.full((120, 160, 3), 90, np.uint8)
+    probs = clf.classify(image, np.array([[10, 10, 30, 30], [50, 40, 80, 70.0]]))
+    assert probs.shape == (2, 5) and np.allclose(probs.sum(1), 1, atol=1e-5)
+    with torch.no_grad():
+        crops = torch.from_numpy(np.full((1, CROP_SIZE, CROP_SIZE, 3), 90, np.uint8)).permute(0, 3, 1, 2).float()
+        expected = torch.softmax(net(crops), 1).numpy()
+    assert np.allclose(probs[0], expected[0], atol=1e-4)
