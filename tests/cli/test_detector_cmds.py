@@ -190,6 +190,19 @@ def test_train_ball_classifier_widths(toy, tmp_path, capsys):
     assert "three" in capsys.readouterr().err and not (tmp_path / "b").exists()
 
 
+def test_train_ball_classifier_head_copies_and_jitter(toy, tmp_path, capsys):
+    pytest.importorskip("torch")
+    pytest.importorskip("onnx", reason="ONNX export needs the onnx package (train extra)")
+    args = ["train-ball-classifier", "--data", str(toy), "--epochs", "1", "--quiet", "--widths", "8,8,8"]
+    extra = ["--head", "mean", "--copies", "2", "--centre-jitter", "0.12", "--scale-jitter", "0.85,1.18"]
+    assert main([*args, "--out", str(tmp_path / "a"), *extra]) == 0
+    config = json.loads((tmp_path / "a" / "metrics.json").read_text())["config"]
+    assert (config["head"], config["copies"], config["centre_jitter"]) == ("mean", 2, 0.12)
+    assert config["scale_jitter"] == [0.85, 1.18]
+    assert main([*args, "--out", str(tmp_path / "b"), "--scale-jitter", "1.2"]) == 2
+    assert "--scale-jitter" in capsys.readouterr().err and not (tmp_path / "b").exists()
+
+
 def test_detect_with_a_missing_classifier_is_a_clean_error(toy, tmp_path, capsys):
     image = str(next((toy / "test" / "images").iterdir()))
     rc = main(["detect", image, "--classifier", str(tmp_path / "no.onnx"), "--json", str(tmp_path / "d.json")])

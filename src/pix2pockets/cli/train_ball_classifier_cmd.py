@@ -30,6 +30,10 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="read the 4x4-pooled feature map (grid, default) or its mean over the crop (mean, the v2 classifier)",
     )
     parser.add_argument("--copies", type=int, default=1, help="jittered crops per labelled ball (default 1)")
+    parser.add_argument(
+        "--centre-jitter", type=float, default=0.06, help="largest crop centre shift in ball diameters (default 0.06)"
+    )
+    parser.add_argument("--scale-jitter", default="0.92,1.09", help="crop scale range lo,hi (default 0.92,1.09)")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
@@ -52,6 +56,8 @@ def run(args: argparse.Namespace) -> int:
         widths=_widths(args.widths),
         head=args.head,
         copies=args.copies,
+        centre_jitter=args.centre_jitter,
+        scale_jitter=_scale_range(args.scale_jitter),
     )
     print(f"wrote {train_crop_classifier(cfg, progress=not args.quiet)}")
     return 0
@@ -63,3 +69,12 @@ def _widths(text: str) -> tuple[int, ...]:
         return tuple(int(v) for v in text.split(","))
     except ValueError as err:
         raise ValueError(f"--widths needs three comma-separated channel counts like 24,48,96, got {text!r}") from err
+
+
+def _scale_range(text: str) -> tuple[float, float]:
+    """``lo,hi`` from ``0.92,1.09``; the range itself is checked by ``CropTrainConfig``."""
+    try:
+        lo, hi = (float(v) for v in text.split(","))
+    except ValueError as err:
+        raise ValueError(f"--scale-jitter needs two comma-separated numbers like 0.92,1.09, got {text!r}") from err
+    return lo, hi

@@ -20,13 +20,17 @@ def test_both_heads_give_five_logits_per_crop(head):
     assert net(torch.zeros(3, 3, CROP_SIZE, CROP_SIZE)).shape == (3, 5)
 
 
-def test_unknown_head_and_bad_copies_are_refused():
+def test_unknown_head_bad_copies_and_bad_jitter_are_refused():
     with pytest.raises(ValueError, match="head"):
         CropNet(head="max")
     with pytest.raises(ValueError, match="head"):
         CropTrainConfig(data=("d",), out="o", head="max")
     with pytest.raises(ValueError, match="copies"):
         CropTrainConfig(data=("d",), out="o", copies=0)
+    with pytest.raises(ValueError, match="jitter"):
+        CropTrainConfig(data=("d",), out="o", scale_jitter=(1.1, 0.9))
+    with pytest.raises(ValueError, match="jitter"):
+        CropTrainConfig(data=("d",), out="o", centre_jitter=-0.1)
 
 
 def _disc_and_cap() -> tuple[torch.Tensor, torch.Tensor]:

@@ -95,6 +95,8 @@ class CropTrainConfig:
         widths: channels of the network's three stages.
         head: ``"grid"`` or ``"mean"`` (see the module docstring).
         copies: jittered crops per labelled ball and image.
+        centre_jitter: largest crop centre shift, in ball diameters.
+        scale_jitter: crop diameter scale range.
     """
 
     data: tuple[str, ...]
@@ -110,6 +112,8 @@ class CropTrainConfig:
     widths: tuple[int, int, int] = (16, 32, 64)
     head: str = "grid"
     copies: int = 1
+    centre_jitter: float = CropConfig().centre_jitter
+    scale_jitter: tuple[float, float] = CropConfig().scale_jitter
 
     def __post_init__(self) -> None:
         if not self.data:
@@ -124,6 +128,11 @@ class CropTrainConfig:
             raise ValueError(f"head must be one of {HEADS}, got {self.head!r}")
         if self.copies < 1:
             raise ValueError(f"copies must be >= 1, got {self.copies}")
+        if not 0 <= self.centre_jitter < 0.5 or not 0 < self.scale_jitter[0] <= self.scale_jitter[1]:
+            raise ValueError(
+                f"centre_jitter must be in [0, 0.5) and scale_jitter a range lo <= hi above 0, got "
+                f"{self.centre_jitter} and {self.scale_jitter}"
+            )
 
 
 def _sources(cfg: CropTrainConfig, split: str) -> list:
@@ -184,7 +193,8 @@ def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
     out = Path(cfg.out)
     out.mkdir(parents=True, exist_ok=True)
     train = _sources(cfg, "train")
-    crops, labels = collect_crops(train, read_image_rgb, cfg.seed, CropConfig(copies=cfg.copies), progress)
+    crop_cfg = CropConfig(copies=cfg.copies, centre_jitter=cfg.centre_jitter, scale_jitter=cfg.scale_jitter)
+    crops, labels = collect_crops(train, read_image_rgb, cfg.seed, crop_cfg, progress)
     test = _sources(cfg, "test")
     test_crops, test_labels = (
         collect_crops(test, read_image_rgb, cfg.seed + 1, CropConfig(copies=1), progress) if test else (None, None)

@@ -37,8 +37,8 @@ class CropConfig:
     """
 
     copies: int = 1
-    centre_jitter: float = 0.12
-    scale_jitter: tuple[float, float] = (0.85, 1.18)
+    centre_jitter: float = 0.06
+    scale_jitter: tuple[float, float] = (0.92, 1.09)
     low_res: float = 0.4
     random_negatives: float = 0.6
     off_centre_negatives: float = 0.25
