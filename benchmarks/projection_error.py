@@ -104,6 +104,7 @@ def run_rendered(
     rise_err: dict[str, list[float]] = {v: [] for v in views}
     counts = {"truth": 0, "located": 0, "found": 0}  # sphere method: a truth ball is found within a diameter
     measured = 0
+    view_means: list[dict] = []  # mean sphere error of each view that fitted, to find the outliers
     for k in range(sets):
         renders = render_views((seed, k), size=size, views=views)
         per_view: dict[str, dict[str, np.ndarray]] = {}
@@ -133,6 +134,8 @@ def run_rendered(
                 errs = matched_errors(loc.positions, truth, spec) if len(loc.positions) and len(truth) else []
                 truth_err[m.value][lab["view"]].extend(np.asarray(errs) * scale)
                 if m is LocateMethod.SPHERE:
+                    if len(errs):
+                        view_means.append({"set": k, "view": lab["view"], "cm": float(np.mean(errs) * scale * 100)})
                     counts["truth"] += len(truth)
                     counts["located"] += len(loc.positions)
                     counts["found"] += int(np.sum(np.asarray(errs) < 2 * spec.ball_radius))
@@ -158,6 +161,7 @@ def run_rendered(
             "size": list(size),
             "fit_failures": len(failures),
             "failures": failures,
+            "worst_views_sphere_cm": sorted(view_means, key=lambda w: -w["cm"])[:5],
             "balls": {
                 **counts,
                 "missed": counts["truth"] - counts["found"],
@@ -174,9 +178,14 @@ def summarise(truth_err: dict, v2v: dict, meta: dict) -> dict:
         values = list(values)
         return float(np.mean(values) * cm) if values else None
 
+    def median(values) -> float | None:
+        values = list(values)
+        return float(np.median(values) * cm) if values else None
+
     return {
         **meta,
         "vs_truth_cm": {m: {v: mean(e) for v, e in d.items()} for m, d in truth_err.items()},
+        "vs_truth_median_cm": {m: {v: median(e) for v, e in d.items()} for m, d in truth_err.items()},
         "vs_truth_all_views_cm": {m: mean(x for e in d.values() for x in e) for m, d in truth_err.items()},
         "view_to_view_cm": {m: {v: mean(e) for v, e in d.items()} for m, d in v2v.items()},
         "view_to_view_all_cm": {m: mean(x for e in d.values() for x in e) for m, d in v2v.items()},
@@ -244,6 +253,17 @@ def main(argv: list[str] | None = None) -> int:
             + f" {f(res['vs_truth_all_views_cm'][m])} | "
             + " ".join(f"   {f(v[x])}" for x in views[1:])
             + f" {f(res['view_to_view_all_cm'][m])}"
+        )
+    medians = res.get("vs_truth_median_cm", {})
+    if medians:
+        print("medians")
+    for m, t in medians.items():
+        print(f"{m:<8} " + " ".join(f(t[x]) for x in views))
+    worst = res.get("worst_views_sphere_cm", [])
+    if worst:
+        print(
+            "worst views (sphere, mean error per view [cm]): "
+            + ", ".join(f"{w['set']} {w['view']} {w['cm']:.1f}" for w in worst)
         )
     print(f"table fit failures: {res['fit_failures']}")
     for line in res.get("failures", []):
