@@ -19,7 +19,6 @@ import time
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 
-from pix2pockets.synth import effects as fx
 from pix2pockets.synth import renderer as rnd
 from pix2pockets.synth.labels import build_labels
 
@@ -46,11 +45,8 @@ def run(n: int, size: tuple[int, int], seed: int) -> dict:
         t = lap("ray cast", t)
         exposure = rnd._exposure(scene, raw, ids)
         r_plain = copy.deepcopy(r_fx)
-        img = fx.tone_map(raw, exposure, r_fx.uniform(0.85, 1.2), r_fx.uniform(0.75, 1.25))  # as _photograph
-        occ, _ = rnd._add_occluders(img, depth, scene, cam, kind, r_fx, 1.0)
-        t = lap("occluders", t)
-        image, _ = fx.camera_pipeline(img, r_fx)
-        t = lap("camera pipeline", t)
+        image, occ, _, _ = rnd._photograph(raw, depth, scene, cam, kind, exposure, r_fx, 1.0)
+        t = lap("photo (tone map, occluders, camera pipeline)", t)
         signal = rnd.diamond_signal(image, scene, cam, kind, raw, ids, depth, exposure, r_plain, 1.0)
         t = lap("diamond visibility (photo without diamonds)", t)
         build_labels(scene, cam, ids, occ, sil, diamond_signal=signal)
