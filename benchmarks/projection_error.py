@@ -85,7 +85,13 @@ def run(sets: int, noise: float, seed: int) -> dict:
 
 
 def run_rendered(
-    sets: int, seed: int, height: str, size: tuple[int, int], onnx: bool = False, model: str | None = None
+    sets: int,
+    seed: int,
+    height: str,
+    size: tuple[int, int],
+    onnx: bool = False,
+    model: str | None = None,
+    dot_refiner: str | None = None,
 ) -> dict:
     from pix2pockets.synth.renderer import render_views
     from pix2pockets.vision.rail_height import refine_fit_height
@@ -93,9 +99,18 @@ def run_rendered(
     detector = None
     if onnx:
         from pix2pockets.pipeline.photo import clean_detections, default_detector
-        from pix2pockets.vision.onnx_detector import OnnxDetector, default_classifier
+        from pix2pockets.vision.onnx_detector import (
+            OnnxDetector,
+            default_classifier,
+            default_model_path,
+            dot_refiner_from_option,
+        )
 
-        detector = default_detector() if model is None else OnnxDetector(model, classifier=default_classifier())
+        if model is None and dot_refiner is None:
+            detector = default_detector()
+        else:
+            refiner = dot_refiner_from_option(dot_refiner)
+            detector = OnnxDetector(model or default_model_path(), classifier=default_classifier(), dot_refiner=refiner)
 
     views = ("top", "high", "front")
     truth_err: dict[str, dict[str, list[float]]] = {m.value: {v: [] for v in views} for m in METHODS}
@@ -209,13 +224,16 @@ def main(argv: list[str] | None = None) -> int:
         "--onnx", action="store_true", help="rendered: detections from the bundled ONNX detector, not the labels"
     )
     parser.add_argument("--model", default=None, help="rendered, --onnx: this detector ONNX instead of the bundled one")
+    parser.add_argument(
+        "--dot-refiner", default=None, help="rendered, --onnx: this diamond refiner ONNX ('none': without one)"
+    )
     parser.add_argument("--size", default="1280x720", help="rendered: image size WxH")
     parser.add_argument("--json", help="write results to this JSON file")
     args = parser.parse_args(argv)
     if args.rendered:
         size = tuple(int(v) for v in args.size.lower().split("x"))
         height = "known" if args.known_height else args.height
-        res = run_rendered(args.rendered, args.seed, height, size, args.onnx, args.model)
+        res = run_rendered(args.rendered, args.seed, height, size, args.onnx, args.model, args.dot_refiner)
         print(
             f"projection error, {res['sets']} rendered sets x 3 views ({res['detections']}, "
             f"{height} diamond height), scaled to a 9-ft table [cm]"

@@ -7,7 +7,7 @@ from pathlib import Path
 
 
 def add_model_options(parser: argparse.ArgumentParser) -> None:
-    """--model and --classifier."""
+    """--model, --classifier and --dot-refiner."""
     parser.add_argument("--model", default=None, help="detector ONNX model (default: the bundled one)")
     parser.add_argument(
         "--classifier",
@@ -15,10 +15,16 @@ def add_model_options(parser: argparse.ArgumentParser) -> None:
         help="ball classifier ONNX re-scoring ball classes from full-resolution crops (default: the bundled one; "
         "'none': the detector's own class heads)",
     )
+    parser.add_argument(
+        "--dot-refiner",
+        default=None,
+        help="diamond refiner ONNX re-reading each diamond's box and score from full-resolution crops (default: the "
+        "bundled one; 'none': the detector's own diamond boxes)",
+    )
 
 
 def add_detector_options(parser: argparse.ArgumentParser) -> None:
-    """--model, --classifier, --input-size, --max-input-size and --threads."""
+    """--model, --classifier, --dot-refiner, --input-size, --max-input-size and --threads."""
     add_model_options(parser)
     parser.add_argument(
         "--input-size", type=int, default=640, help="network input long side for images up to this size (default 640)"
@@ -39,6 +45,7 @@ def detector_from_args(args: argparse.Namespace, conf_threshold: float):
         OnnxDetectorConfig,
         classifier_from_option,
         default_model_path,
+        dot_refiner_from_option,
     )
 
     model = Path(args.model) if args.model else default_model_path()
@@ -48,13 +55,24 @@ def detector_from_args(args: argparse.Namespace, conf_threshold: float):
         conf_threshold=conf_threshold,
         threads=args.threads,
     )
-    return OnnxDetector(model, config, classifier_from_option(args.classifier, args.threads))
+    classifier = classifier_from_option(args.classifier, args.threads)
+    return OnnxDetector(model, config, classifier, dot_refiner_from_option(args.dot_refiner, args.threads))
 
 
 def chosen_detector(args: argparse.Namespace):
-    """The detector ``--model`` / ``--classifier`` ask for, or None when neither is given (use the default)."""
-    if not (args.model or args.classifier):
+    """The detector ``--model`` / ``--classifier`` / ``--dot-refiner`` ask for, or None when none is given (use the
+    default)."""
+    if not (args.model or args.classifier or args.dot_refiner):
         return None
-    from pix2pockets.vision.onnx_detector import OnnxDetector, classifier_from_option, default_model_path
+    from pix2pockets.vision.onnx_detector import (
+        OnnxDetector,
+        classifier_from_option,
+        default_model_path,
+        dot_refiner_from_option,
+    )
 
-    return OnnxDetector(args.model or default_model_path(), classifier=classifier_from_option(args.classifier))
+    return OnnxDetector(
+        args.model or default_model_path(),
+        classifier=classifier_from_option(args.classifier),
+        dot_refiner=dot_refiner_from_option(args.dot_refiner),
+    )

@@ -63,8 +63,9 @@ def run(args: argparse.Namespace) -> int:
     else:
         detector = detector_from_args(args, 0.01)
         model = str(detector.model_path)
-        if detector.classifier is not None:
-            model += f" + {detector.classifier.model_path}"
+        for stage in (detector.classifier, detector.dot_refiner):
+            if stage is not None:
+                model += f" + {stage.model_path}"
     if args.table_class is not None and not args.agnostic:
         raise ValueError("--table-class works with --agnostic (ball-only photos with a table box)")
     opts = EvalOptions(

@@ -53,7 +53,7 @@ def run(args: argparse.Namespace) -> int:
         batch=args.batch,
         lr=args.lr,
         threads=args.threads,
-        widths=_widths(args.widths),
+        widths=parse_widths(args.widths),
         head=args.head,
         copies=args.copies,
         centre_jitter=args.centre_jitter,
@@ -63,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _widths(text: str) -> tuple[int, ...]:
+def parse_widths(text: str) -> tuple[int, ...]:
     """Channel counts from ``24,48,96``; their number and range are checked by ``CropTrainConfig``."""
     try:
         return tuple(int(v) for v in text.split(","))

@@ -21,6 +21,20 @@ def ball_diameters(boxes: np.ndarray) -> np.ndarray:
     return np.maximum(0.5 * ((boxes[:, 2] - boxes[:, 0]) + (boxes[:, 3] - boxes[:, 1])), 2.0)
 
 
+def crop_windows(centres: np.ndarray, diameters: np.ndarray, context: float = CROP_CONTEXT) -> tuple[np.ndarray, ...]:
+    """Integer crop windows: top-left corners (n, 2) and sides (n,) [px], `context` diameters wide.
+
+    The same rounding as :func:`crop_balls`, so a position inside a crop maps back to the photo exactly.
+    """
+    centres = np.asarray(centres, dtype=float).reshape(-1, 2)
+    diameters = np.asarray(diameters, dtype=float).reshape(-1)
+    if len(centres) != len(diameters):
+        raise ValueError(f"{len(centres)} centres but {len(diameters)} diameters")
+    sides = np.maximum(2, np.round(diameters * context)).astype(int)
+    corners = np.round(centres - sides[:, None] / 2).astype(int)
+    return corners, sides
+
+
 def crop_balls(
     image: np.ndarray,
     centres: np.ndarray,
@@ -37,17 +51,12 @@ def crop_balls(
         size: crop side [px].
         context: crop side over ball diameter.
 
-    Parts of a crop outside the image repeat the nearest edge pixel.
+    Parts of a crop outside the image repeat the nearest edge pixel. Crop windows: :func:`crop_windows`.
     """
-    centres = np.asarray(centres, dtype=float).reshape(-1, 2)
-    diameters = np.asarray(diameters, dtype=float).reshape(-1)
-    if len(centres) != len(diameters):
-        raise ValueError(f"{len(centres)} centres but {len(diameters)} diameters")
+    corners, sides = crop_windows(centres, diameters, context)
     h, w = image.shape[:2]
-    out = np.empty((len(centres), size, size, 3), dtype=np.uint8)
-    for i, ((cx, cy), d) in enumerate(zip(centres, diameters, strict=True)):
-        side = max(2, round(d * context))
-        x0, y0 = round(cx - side / 2), round(cy - side / 2)
+    out = np.empty((len(sides), size, size, 3), dtype=np.uint8)
+    for i, ((x0, y0), side) in enumerate(zip(corners, sides, strict=True)):
         xs = np.clip(np.arange(x0, x0 + side), 0, w - 1)
         ys = np.clip(np.arange(y0, y0 + side), 0, h - 1)
         region = image[ys[:, None], xs[None, :]]

@@ -14,8 +14,9 @@ from pathlib import Path
 import numpy as np
 
 from pix2pockets.vision.ball_classifier import BallClassifier, classified_balls, default_classifier_path
-from pix2pockets.vision.classes import DOT_ID
+from pix2pockets.vision.classes import BALL_IDS, DOT_ID
 from pix2pockets.vision.detections import Detections
+from pix2pockets.vision.dot_refiner import DotRefiner, default_dot_refiner_path
 from pix2pockets.vision.heatmap_decode import decode_ball_peaks, decode_peaks
 from pix2pockets.vision.heatmap_layout import INPUT_MULTIPLE
 from pix2pockets.vision.letterbox import network_input
@@ -77,24 +78,32 @@ class OnnxDetector:
         config: inference settings.
         classifier: optional second stage that re-reads each ball from the full-resolution photo and
             re-scores its class (``pix2pockets train-ball-classifier``); None uses the detector's class heads.
+        dot_refiner: optional second stage that re-reads each diamond from the full-resolution photo and
+            refines its box and score (``pix2pockets train-dot-refiner``); None keeps the detector's.
 
     Raises:
         ValueError: if the file does not exist or is not a model of the expected form.
     """
 
     def __init__(
-        self, model_path: str | Path, config: OnnxDetectorConfig | None = None, classifier: BallClassifier | None = None
+        self,
+        model_path: str | Path,
+        config: OnnxDetectorConfig | None = None,
+        classifier: BallClassifier | None = None,
+        dot_refiner: DotRefiner | None = None,
     ) -> None:
         self.config = config or OnnxDetectorConfig()
         self.classifier = classifier
+        self.dot_refiner = dot_refiner
         self.session = open_session(model_path, self.config.threads, "detector model")
         self.input_name = self.session.get_inputs()[0].name
         self.model_path = Path(model_path)
 
     @classmethod
     def from_default(cls, config: OnnxDetectorConfig | None = None) -> OnnxDetector:
-        """The detector shipped with the package, with the shipped ball classifier when there is one."""
-        return cls(default_model_path(), config, default_classifier((config or OnnxDetectorConfig()).threads))
+        """The detector shipped with the package, with the shipped second stages when there are any."""
+        threads = (config or OnnxDetectorConfig()).threads
+        return cls(default_model_path(), config, default_classifier(threads), default_dot_refiner(threads))
 
     def _forward(self, image_rgb: np.ndarray):
         image = np.asarray(image_rgb)
@@ -109,11 +118,15 @@ class OnnxDetector:
         out, box, size = self._forward(image_rgb)
         c = self.config
         if self.classifier is None:
-            return decode_peaks(out, box, c.conf_threshold, c.max_detections, image_size=size)
-        balls, heat = decode_ball_peaks(out, box, c.conf_threshold, c.max_detections, image_size=size)
-        probs = self.classifier.classify(image_rgb, balls.boxes)
+            balls = decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=BALL_IDS, image_size=size)
+        else:
+            balls, heat = decode_ball_peaks(out, box, c.conf_threshold, c.max_detections, image_size=size)
+            probs = self.classifier.classify(image_rgb, balls.boxes)
+            balls = classified_balls(balls, heat, probs, c.conf_threshold)
         dots = decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=(DOT_ID,), image_size=size)
-        return Detections.concatenate([classified_balls(balls, heat, probs, c.conf_threshold), dots])
+        if self.dot_refiner is not None:
+            dots = self.dot_refiner.refine(image_rgb, dots)
+        return Detections.concatenate([balls, dots])
 
     def detect_balls(self, image_rgb: np.ndarray) -> Detections:
         """Class-agnostic ball detections from the "any ball" heatmap (class ids all 0, meaning "ball")."""
@@ -126,6 +139,22 @@ def default_classifier(threads: int = 1) -> BallClassifier | None:
     """The ball classifier shipped with the package, or None when this build has none."""
     path = default_classifier_path()
     return BallClassifier(path, threads) if path.is_file() else None
+
+
+def default_dot_refiner(threads: int = 1) -> DotRefiner | None:
+    """The diamond refiner shipped with the package, or None when this build has none."""
+    path = default_dot_refiner_path()
+    return DotRefiner(path, threads) if path.is_file() else None
+
+
+def dot_refiner_from_option(option: str | None, threads: int = 1) -> DotRefiner | None:
+    """The refiner a command-line option names: None -> the shipped one (if any), "none" -> no second stage,
+    anything else -> that ONNX file."""
+    if option is None:
+        return default_dot_refiner(threads)
+    if option.lower() == "none":
+        return None
+    return DotRefiner(option, threads)
 
 
 def classifier_from_option(option: str | None, threads: int = 1) -> BallClassifier | None:

@@ -43,10 +43,15 @@ HEADS = ("grid", "mean")
 
 
 class CropNet(nn.Module):
-    """Logits (N, 5) for crops given as uint8-valued floats (N, 3, S, S) in RGB, S = ``crop_size``."""
+    """Outputs (N, n_outputs) for crops given as uint8-valued floats (N, 3, S, S) in RGB, S = ``crop_size``;
+    by default the logits of the classifier's five labels."""
 
     def __init__(
-        self, widths: tuple[int, int, int] = (16, 32, 64), head: str = "grid", crop_size: int = CROP_SIZE
+        self,
+        widths: tuple[int, int, int] = (16, 32, 64),
+        head: str = "grid",
+        crop_size: int = CROP_SIZE,
+        n_outputs: int = len(CROP_LABELS),
     ) -> None:
         super().__init__()
         if head not in HEADS:
@@ -56,10 +61,10 @@ class CropNet(nn.Module):
         self.features = nn.Sequential(_block(3, a), nn.MaxPool2d(2), _block(a, b), nn.MaxPool2d(2), _block(b, c))
         if head == "grid":
             cells = (crop_size // 8) ** 2  # two 2x poolings in the features, one more here
-            linear = nn.Linear(c * cells, len(CROP_LABELS))
+            linear = nn.Linear(c * cells, n_outputs)
             self.fc = nn.Sequential(nn.MaxPool2d(2), nn.Flatten(), nn.Dropout(0.2), linear)
         else:
-            self.fc = nn.Linear(c, len(CROP_LABELS))
+            self.fc = nn.Linear(c, n_outputs)
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         x = self.features(x / 127.5 - 1.0)
@@ -151,14 +156,19 @@ def _sources(cfg: CropTrainConfig, split: str) -> list:
 
 def augment(x: torch.Tensor, gen: torch.Generator) -> torch.Tensor:
     """Random flips, quarter turns, brightness, contrast, colour balance and noise on (N, 3, S, S) in 0-255."""
+    if bool(torch.rand(1, generator=gen) < 0.5):
+        x = x.flip(3)
+    x = torch.rot90(x, int(torch.randint(0, 4, (1,), generator=gen)), dims=(2, 3))
+    return photometric(x, gen)
+
+
+def photometric(x: torch.Tensor, gen: torch.Generator) -> torch.Tensor:
+    """Random brightness, contrast, colour balance and noise per crop on (N, 3, S, S) in 0-255."""
     n = x.shape[0]
 
     def u(lo: float, hi: float, *shape: int) -> torch.Tensor:
         return lo + (hi - lo) * torch.rand(n, *shape, generator=gen)
 
-    if bool(torch.rand(1, generator=gen) < 0.5):
-        x = x.flip(3)
-    x = torch.rot90(x, int(torch.randint(0, 4, (1,), generator=gen)), dims=(2, 3))
     mean = x.mean(dim=(1, 2, 3), keepdim=True)
     x = (x - mean) * u(0.7, 1.3, 1, 1, 1) + mean * u(0.6, 1.4, 1, 1, 1)
     x = x * u(0.9, 1.1, 3, 1, 1)

@@ -45,13 +45,13 @@ class CropConfig:
     dot_negatives: int = 6
 
 
-def _degrade(crops: np.ndarray, rng: np.random.Generator, p: float) -> np.ndarray:
+def degrade_crops(crops: np.ndarray, rng: np.random.Generator, p: float) -> np.ndarray:
     """Re-sample a fraction `p` of the crops through 7-20 px, as a far or out-of-focus ball looks."""
     out = crops.copy()
     for i in np.flatnonzero(rng.random(len(crops)) < p):
         r = int(rng.integers(7, 21))
         small = cv2.resize(crops[i], (r, r), interpolation=cv2.INTER_AREA)
-        out[i] = cv2.resize(small, (CROP_SIZE, CROP_SIZE), interpolation=cv2.INTER_LINEAR)
+        out[i] = cv2.resize(small, (crops.shape[2], crops.shape[1]), interpolation=cv2.INTER_LINEAR)
     return out
 
 
@@ -122,7 +122,7 @@ def image_crops(
             labels.append(np.full(int(keep.sum()), NO_BALL))
     if not crops:
         return np.empty((0, CROP_SIZE, CROP_SIZE, 3), np.uint8), np.empty(0, int)
-    return _degrade(np.concatenate(crops), rng, cfg.low_res), np.concatenate(labels).astype(int)
+    return degrade_crops(np.concatenate(crops), rng, cfg.low_res), np.concatenate(labels).astype(int)
 
 
 def collect_crops(

@@ -1,0 +1,88 @@
+"""Training crops for the diamond refiner: labelled diamonds seen off-centre, as the detector places its crops
+(numpy and OpenCV only).
+
+Each labelled diamond gives crops whose centre is shifted and whose side is scaled as the detector's box would
+be; the target is where the diamond's centre really lies in the crop.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from pix2pockets.vision.classes import DOT_ID
+from pix2pockets.vision.dot_refiner import DOT_CROP_SIZE, centre_targets, crop_dots, dot_crop_sides
+from pix2pockets.vision.train.crop_data import degrade_crops
+from pix2pockets.vision.yolo_data import LabelledImage
+
+
+@dataclass(frozen=True, slots=True)
+class DotCropConfig:
+    """How refiner crops are drawn from one labelled image.
+
+    Attributes:
+        copies: shifted crops per labelled diamond.
+        centre_jitter: largest centre shift per axis, in diamond box sides (the detector's error is mostly
+            below half a side, a 4 px box being typical).
+        side_jitter: crop side scale range (the detector's box size is off by up to a third).
+        low_res: probability that a crop is re-sampled through a lower resolution.
+    """
+
+    copies: int = 1
+    centre_jitter: float = 0.6
+    side_jitter: tuple[float, float] = (0.85, 1.3)
+    low_res: float = 0.3
+
+
+def image_dot_crops(
+    image: np.ndarray, item: LabelledImage, class_map: dict[int, int], rng: np.random.Generator, cfg: DotCropConfig
+) -> tuple[np.ndarray, np.ndarray]:
+    """Crops (m, S, S, 3) uint8 and centre targets (m, 2) from one labelled image (none without diamonds).
+
+    Args:
+        image: the RGB image of `item`.
+        item: its labels.
+        class_map: dataset class id -> detector class id.
+        rng: randomness for shifts, scales and re-sampling.
+        cfg: copies and jitter.
+    """
+    cls = np.array([class_map.get(int(c), -1) for c in item.class_id], dtype=int)
+    dots = item.boxes.reshape(-1, 4)[cls == DOT_ID]
+    if len(dots) == 0 or cfg.copies == 0:
+        return np.empty((0, DOT_CROP_SIZE, DOT_CROP_SIZE, 3), np.uint8), np.empty((0, 2))
+    centres = 0.5 * (dots[:, :2] + dots[:, 2:])
+    box_side = 0.5 * ((dots[:, 2] - dots[:, 0]) + (dots[:, 3] - dots[:, 1]))
+    crops, targets = [], []
+    for _ in range(cfg.copies):
+        shift = rng.uniform(-cfg.centre_jitter, cfg.centre_jitter, size=centres.shape) * box_side[:, None]
+        sides = dot_crop_sides(dots) * rng.uniform(*cfg.side_jitter, size=len(dots))
+        c, corners, windows = crop_dots(image, centres + shift, sides)
+        crops.append(c)
+        targets.append(centre_targets(centres, corners, windows))
+    return degrade_crops(np.concatenate(crops), rng, cfg.low_res), np.concatenate(targets)
+
+
+def collect_dot_crops(
+    sources: Sequence[tuple[LabelledImage, dict[int, int]]],
+    read_rgb,
+    seed: int,
+    cfg: DotCropConfig = DotCropConfig(),
+    progress: bool = False,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Crops and targets (float32) from many images; image `j` draws from ``np.random.default_rng((seed, j))``.
+
+    Raises:
+        ValueError: if no image has a labelled diamond.
+    """
+    from tqdm import tqdm
+
+    crops, targets = [], []
+    for j, (item, cmap) in enumerate(tqdm(sources, desc="diamond crops", disable=not progress)):
+        c, t = image_dot_crops(read_rgb(item.image_path), item, cmap, np.random.default_rng((seed, j)), cfg)
+        crops.append(c)
+        targets.append(t)
+    if not sum(len(t) for t in targets):
+        raise ValueError("no labelled diamonds (class 'dot') in these datasets")
+    return np.concatenate(crops), np.concatenate(targets).astype(np.float32)

@@ -1,0 +1,75 @@
+"""The diamond refiner's crop geometry, output decoding, and the shipped model on a fresh render."""
+
+import numpy as np
+import pytest
+
+from pix2pockets.vision.ball_crops import crop_balls, crop_windows
+from pix2pockets.vision.detections import Detections
+from pix2pockets.vision.dot_refiner import (
+    DOT_CROP_SIZE,
+    MIN_DOT_CROP_PX,
+    DotRefiner,
+    centre_targets,
+    centres_from_outputs,
+    crop_dots,
+    default_dot_refiner_path,
+    dot_crop_sides,
+)
+
+
+def test_crop_windows_are_where_the_crops_come_from():
+    image = np.zeros((60, 80, 3), np.uint8)
+    image[20, 30] = 255  # one bright pixel, centre (30.5, 20.5)
+    centres = np.array([[31.2, 19.6]])
+    corners, sides = crop_windows(centres, np.array([16.0]), 1.0)
+    crop = crop_balls(image, centres, np.array([16.0]), size=16, context=1.0)[0]
+    (row, col) = np.argwhere(crop[:, :, 0] == 255)[0]
+    assert (corners[0][0] + col, corners[0][1] + row) == (30, 20)
+    assert sides[0] == 16
+
+
+def test_outputs_decode_to_photo_pixels_and_targets_invert_them():
+    corners, sides = np.array([[100, 50], [7, 9]]), np.array([16, 20])
+    out = np.array([[0.25, -0.125], [0.0, 0.1]])
+    centres = centres_from_outputs(out, corners, sides)
+    assert np.allclose(centres, [[112, 56], [17, 21]])
+    assert np.allclose(centre_targets(centres, corners, sides), out)
+
+
+def test_crop_sides_follow_the_box_with_a_floor():
+    sides = dot_crop_sides(np.array([[0, 0, 4, 4], [0, 0, 10, 8.0]]))
+    assert sides[0] == MIN_DOT_CROP_PX and sides[1] == pytest.approx(36.0)
+    crops, _, windows = crop_dots(np.zeros((50, 50, 3), np.uint8), np.array([[25.0, 25.0]]), np.array([16.0]))
+    assert crops.shape == (1, DOT_CROP_SIZE, DOT_CROP_SIZE, 3) and windows.tolist() == [16]
+
+
+def test_missing_or_wrong_model_is_a_clear_error(tmp_path):
+    with pytest.raises(ValueError, match="not found"):
+        DotRefiner(tmp_path / "nope.onnx")
+    from pix2pockets.vision.ball_classifier import default_classifier_path
+
+    if default_classifier_path().exists():  # a crop model, but not a refiner
+        with pytest.raises(ValueError, match="not a diamond refiner"):
+            DotRefiner(default_classifier_path())
+
+
+@pytest.mark.skipif(not default_dot_refiner_path().exists(), reason="no diamond refiner committed")
+def test_shipped_refiner_moves_shifted_boxes_back_onto_the_diamonds():
+    pytest.importorskip("pix2pockets.synth")
+    from pix2pockets.synth.renderer import render
+    from pix2pockets.vision.classes import DOT_ID
+
+    rend = render((5155, 0), (960, 540))
+    truth = np.array([d["box_px"] for d in rend.labels["diamonds"] if d["labelled"]], float)
+    if len(truth) < 6:
+        pytest.skip("render shows fewer than 6 diamonds")
+    shifted = truth + np.tile(np.random.default_rng(0).uniform(-1.5, 1.5, (len(truth), 2)), 2)
+    dots = Detections(shifted, np.linspace(0.9, 0.5, len(truth)), np.full(len(truth), DOT_ID))
+    refined = DotRefiner.from_default().refine(rend.image, dots)
+
+    def centre_error(boxes: np.ndarray) -> np.ndarray:
+        return np.linalg.norm((boxes[:, :2] + boxes[:, 2:] - truth[:, :2] - truth[:, 2:]) / 2, axis=1)
+
+    assert np.median(centre_error(refined.boxes)) < 0.5 * np.median(centre_error(shifted))
+    assert np.allclose(refined.boxes[:, 2:] - refined.boxes[:, :2], shifted[:, 2:] - shifted[:, :2])
+    assert np.array_equal(refined.confidence, dots.confidence)

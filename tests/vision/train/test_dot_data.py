@@ -1,0 +1,58 @@
+"""Refiner training crops: each diamond gives shifted crops whose target points at the diamond."""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pix2pockets.vision.dot_refiner import DOT_CROP_SIZE
+from pix2pockets.vision.train.dot_data import DotCropConfig, collect_dot_crops, image_dot_crops
+from pix2pockets.vision.yolo_data import LabelledImage
+
+IDENTITY = {k: k for k in range(5)}
+DOTS = [[100, 100, 104, 104], [160, 100, 164, 104], [220, 100, 224, 104]]
+
+
+def _item(boxes, classes) -> LabelledImage:
+    b = np.asarray(boxes, float).reshape(-1, 4)
+    return LabelledImage(Path("x.png"), b, np.asarray(classes), np.full((len(b), 2), np.nan), (320, 240))
+
+
+def _image_with_dots(boxes) -> np.ndarray:
+    image = np.full((240, 320, 3), 40, np.uint8)
+    for x0, y0, x1, y1 in boxes:
+        image[int(y0) : int(y1), int(x0) : int(x1)] = 250
+    return image
+
+
+def test_each_diamond_gives_shifted_crops_whose_target_is_the_bright_square():
+    cfg = DotCropConfig(copies=2, low_res=0.0)
+    crops, targets = image_dot_crops(
+        _image_with_dots(DOTS), _item([*DOTS, [10, 10, 30, 30]], [4, 4, 4, 2]), IDENTITY, np.random.default_rng(0), cfg
+    )
+    assert crops.shape == (6, DOT_CROP_SIZE, DOT_CROP_SIZE, 3) and targets.shape == (6, 2)
+    for crop, t in zip(crops, targets, strict=True):
+        cx, cy = (t + 0.5) * DOT_CROP_SIZE
+        assert crop[int(cy), int(cx), 0] > 200  # the target falls on the diamond
+        assert np.all(np.abs(t) <= 0.6 * 4 / 16 + 0.05)  # shifted by at most 0.6 box sides (+ rounding)
+    assert np.abs(targets).max() > 0.02  # and shifted at all
+
+
+def test_images_without_diamonds_give_nothing_and_same_seed_same_crops():
+    crops, targets = image_dot_crops(
+        _image_with_dots([]), _item([[10, 10, 30, 30]], [0]), IDENTITY, np.random.default_rng(0), DotCropConfig()
+    )
+    assert len(crops) == len(targets) == 0
+    a = image_dot_crops(
+        _image_with_dots(DOTS), _item(DOTS, [4, 4, 4]), IDENTITY, np.random.default_rng(3), DotCropConfig()
+    )
+    b = image_dot_crops(
+        _image_with_dots(DOTS), _item(DOTS, [4, 4, 4]), IDENTITY, np.random.default_rng(3), DotCropConfig()
+    )
+    assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
+
+
+def test_datasets_without_diamonds_are_refused():
+    sources = [(_item([[10, 10, 30, 30]], [0]), IDENTITY)]
+    with pytest.raises(ValueError, match="no labelled diamonds"):
+        collect_dot_crops(sources, lambda _path: _image_with_dots([]), seed=0)
