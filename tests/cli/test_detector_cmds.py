@@ -195,12 +195,40 @@ def test_train_ball_classifier_head_copies_and_jitter(toy, tmp_path, capsys):
     pytest.importorskip("onnx", reason="ONNX export needs the onnx package (train extra)")
     args = ["train-ball-classifier", "--data", str(toy), "--epochs", "1", "--quiet", "--widths", "8,8,8"]
     extra = ["--head", "mean", "--copies", "2", "--centre-jitter", "0.12", "--scale-jitter", "0.85,1.18"]
+    extra += ["--low-res", "0.1", "--class-power", "0.25"]
     assert main([*args, "--out", str(tmp_path / "a"), *extra]) == 0
     config = json.loads((tmp_path / "a" / "metrics.json").read_text())["config"]
     assert (config["head"], config["copies"], config["centre_jitter"]) == ("mean", 2, 0.12)
-    assert config["scale_jitter"] == [0.85, 1.18]
+    assert (config["scale_jitter"], config["low_res"], config["class_power"]) == ([0.85, 1.18], 0.1, 0.25)
     assert main([*args, "--out", str(tmp_path / "b"), "--scale-jitter", "1.2"]) == 2
     assert "--scale-jitter" in capsys.readouterr().err and not (tmp_path / "b").exists()
+    assert main([*args, "--out", str(tmp_path / "c"), "--low-res", "1.5"]) == 2
+    assert "low_res" in capsys.readouterr().err and not (tmp_path / "c").exists()
+
+
+def test_train_dot_refiner_tiny_run_and_detect_with_it(toy, tmp_path, capsys):
+    pytest.importorskip("torch")
+    pytest.importorskip("onnx", reason="ONNX export needs the onnx package (train extra)")
+    out = tmp_path / "ref"
+    args = ["train-dot-refiner", "--data", str(toy), "--epochs", "1", "--copies", "1", "--widths", "4,8,8", "--quiet"]
+    assert main([*args, "--out", str(out)]) == 0
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["train_crops"] > 0 and metrics["test"]["crops"] > 0
+    image = str(next((toy / "test" / "images").iterdir()))
+    ref = str(out / "dot-refiner.onnx")
+    assert main(["detect", image, "--dot-refiner", ref, "--json", str(tmp_path / "d.json")]) == 0
+    assert json.loads((tmp_path / "d.json").read_text())["dot_refiner"] == ref
+    assert main(["detect", image, "--dot-refiner", "none", "--json", str(tmp_path / "e.json")]) == 0
+    assert json.loads((tmp_path / "e.json").read_text())["dot_refiner"] is None
+    assert main([*args, "--out", str(tmp_path / "bad"), "--centre-jitter", "-1"]) == 2
+    assert "centre_jitter" in capsys.readouterr().err and not (tmp_path / "bad").exists()
+
+
+def test_detect_with_a_missing_dot_refiner_is_a_clean_error(toy, tmp_path, capsys):
+    image = str(next((toy / "test" / "images").iterdir()))
+    rc = main(["detect", image, "--dot-refiner", str(tmp_path / "no.onnx"), "--json", str(tmp_path / "d.json")])
+    assert rc != 0 and "diamond refiner model not found" in capsys.readouterr().err
+    assert not (tmp_path / "d.json").exists()
 
 
 def test_detect_with_a_missing_classifier_is_a_clean_error(toy, tmp_path, capsys):

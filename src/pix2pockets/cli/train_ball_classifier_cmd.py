@@ -34,6 +34,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--centre-jitter", type=float, default=0.06, help="largest crop centre shift in ball diameters (default 0.06)"
     )
     parser.add_argument("--scale-jitter", default="0.92,1.09", help="crop scale range lo,hi (default 0.92,1.09)")
+    parser.add_argument(
+        "--low-res", type=float, default=0.4, help="share of crops re-sampled through 7-20 px (default 0.4)"
+    )
+    parser.add_argument(
+        "--class-power",
+        type=float,
+        default=0.5,
+        help="loss weight of a class = frequency ** -POWER (default 0.5; 0: unweighted)",
+    )
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
@@ -58,6 +67,8 @@ def run(args: argparse.Namespace) -> int:
         copies=args.copies,
         centre_jitter=args.centre_jitter,
         scale_jitter=_scale_range(args.scale_jitter),
+        low_res=args.low_res,
+        class_power=args.class_power,
     )
     print(f"wrote {train_crop_classifier(cfg, progress=not args.quiet)}")
     return 0

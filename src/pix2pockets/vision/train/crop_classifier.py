@@ -102,6 +102,7 @@ class CropTrainConfig:
         copies: jittered crops per labelled ball and image.
         centre_jitter: largest crop centre shift, in ball diameters.
         scale_jitter: crop diameter scale range.
+        low_res: share of the training crops re-sampled through 7-20 px (far or blurred balls).
     """
 
     data: tuple[str, ...]
@@ -119,6 +120,7 @@ class CropTrainConfig:
     copies: int = 1
     centre_jitter: float = CropConfig().centre_jitter
     scale_jitter: tuple[float, float] = CropConfig().scale_jitter
+    low_res: float = CropConfig().low_res
 
     def __post_init__(self) -> None:
         if not self.data:
@@ -133,6 +135,8 @@ class CropTrainConfig:
             raise ValueError(f"head must be one of {HEADS}, got {self.head!r}")
         if self.copies < 1:
             raise ValueError(f"copies must be >= 1, got {self.copies}")
+        if not 0 <= self.low_res <= 1:
+            raise ValueError(f"low_res must be in [0, 1], got {self.low_res}")
         if not 0 <= self.centre_jitter < 0.5 or not 0 < self.scale_jitter[0] <= self.scale_jitter[1]:
             raise ValueError(
                 f"centre_jitter must be in [0, 0.5) and scale_jitter a range lo <= hi above 0, got "
@@ -203,7 +207,9 @@ def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
     out = Path(cfg.out)
     out.mkdir(parents=True, exist_ok=True)
     train = _sources(cfg, "train")
-    crop_cfg = CropConfig(copies=cfg.copies, centre_jitter=cfg.centre_jitter, scale_jitter=cfg.scale_jitter)
+    crop_cfg = CropConfig(
+        copies=cfg.copies, centre_jitter=cfg.centre_jitter, scale_jitter=cfg.scale_jitter, low_res=cfg.low_res
+    )
     crops, labels = collect_crops(train, read_image_rgb, cfg.seed, crop_cfg, progress)
     test = _sources(cfg, "test")
     test_crops, test_labels = (
