@@ -17,13 +17,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("--data", action="append", default=[], help="YOLO dataset with diamond labels (repeatable)")
     parser.add_argument("--out", required=True, help="output folder")
-    parser.add_argument("--epochs", type=int, default=6, help="passes over the crops (default 6)")
+    parser.add_argument("--epochs", type=int, default=10, help="passes over the crops (default 10)")
     parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
     parser.add_argument("--batch", type=int, default=256, help="crops per step (default 256)")
     parser.add_argument("--lr", type=float, default=3e-3, help="peak learning rate (default 3e-3)")
     parser.add_argument("--threads", type=int, default=1, help="torch CPU threads (default 1)")
     parser.add_argument("--widths", default="16,32,64", help="channels of the three network stages (default 16,32,64)")
-    parser.add_argument("--copies", type=int, default=2, help="shifted crops per labelled diamond (default 2)")
+    parser.add_argument("--copies", type=int, default=3, help="shifted crops per labelled diamond (default 3)")
     parser.add_argument(
         "--centre-jitter", type=float, default=0.6, help="largest crop centre shift in diamond sides (default 0.6)"
     )

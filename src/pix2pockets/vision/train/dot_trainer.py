@@ -53,13 +53,13 @@ class DotTrainConfig:
 
     data: tuple[str, ...]
     out: str
-    epochs: int = 6
+    epochs: int = 10
     seed: int = 0
     batch: int = 256
     lr: float = 3e-3
     threads: int = 1
     widths: tuple[int, int, int] = (16, 32, 64)
-    copies: int = 2
+    copies: int = 3
     centre_jitter: float = DotCropConfig().centre_jitter
 
     def __post_init__(self) -> None:
