@@ -73,3 +73,5 @@ def test_shipped_refiner_moves_shifted_boxes_back_onto_the_diamonds():
     assert np.median(centre_error(refined.boxes)) < 0.5 * np.median(centre_error(shifted))
     assert np.allclose(refined.boxes[:, 2:] - refined.boxes[:, :2], shifted[:, 2:] - shifted[:, :2])
     assert np.array_equal(refined.confidence, dots.confidence)
+    faint = Detections(shifted, np.full(len(truth), 0.1), np.full(len(truth), DOT_ID))
+    assert np.array_equal(DotRefiner.from_default().refine(rend.image, faint).boxes, shifted)  # below min_score
