@@ -34,6 +34,8 @@ def test_outputs_decode_to_photo_pixels_and_targets_invert_them():
     centres = centres_from_outputs(out, corners, sides)
     assert np.allclose(centres, [[112, 56], [17, 21]])
     assert np.allclose(centre_targets(centres, corners, sides), out)
+    wild = centres_from_outputs(np.array([[3.0, -9.0]]), corners[:1], sides[:1])
+    assert np.allclose(wild, [[116, 50]])  # held at the crop's edge
 
 
 def test_crop_sides_follow_the_box_with_a_floor():

@@ -59,8 +59,9 @@ def crop_dots(image: np.ndarray, centres: np.ndarray, sides: np.ndarray) -> tupl
 
 
 def centres_from_outputs(out: np.ndarray, corners: np.ndarray, sides: np.ndarray) -> np.ndarray:
-    """Diamond centres (n, 2) [px] from refiner outputs (n, 2) and the crop windows they were read from."""
-    out = np.asarray(out, dtype=float).reshape(-1, N_OUTPUTS)
+    """Diamond centres (n, 2) [px] from refiner outputs (n, 2) and the crop windows they were read from; an
+    output beyond the crop's edge (never seen in training) is held at the edge."""
+    out = np.clip(np.asarray(out, dtype=float).reshape(-1, N_OUTPUTS), -0.5, 0.5)
     side = np.asarray(sides, dtype=float)[:, None]
     return np.asarray(corners, dtype=float) + side * (0.5 + out)
 
