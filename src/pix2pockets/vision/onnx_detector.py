@@ -79,7 +79,8 @@ class OnnxDetector:
         classifier: optional second stage that re-reads each ball from the full-resolution photo and
             re-scores its class (``pix2pockets train-ball-classifier``); None uses the detector's class heads.
         dot_refiner: optional second stage that re-reads each diamond from the full-resolution photo and
-            refines its box and score (``pix2pockets train-dot-refiner``); None keeps the detector's.
+            moves its box to the diamond's centre (``pix2pockets train-dot-refiner``); None keeps the detector's
+            boxes.
 
     Raises:
         ValueError: if the file does not exist or is not a model of the expected form.
@@ -137,31 +138,31 @@ class OnnxDetector:
 
 def default_classifier(threads: int = 1) -> BallClassifier | None:
     """The ball classifier shipped with the package, or None when this build has none."""
-    path = default_classifier_path()
-    return BallClassifier(path, threads) if path.is_file() else None
-
-
-def default_dot_refiner(threads: int = 1) -> DotRefiner | None:
-    """The diamond refiner shipped with the package, or None when this build has none."""
-    path = default_dot_refiner_path()
-    return DotRefiner(path, threads) if path.is_file() else None
-
-
-def dot_refiner_from_option(option: str | None, threads: int = 1) -> DotRefiner | None:
-    """The refiner a command-line option names: None -> the shipped one (if any), "none" -> no second stage,
-    anything else -> that ONNX file."""
-    if option is None:
-        return default_dot_refiner(threads)
-    if option.lower() == "none":
-        return None
-    return DotRefiner(option, threads)
+    return classifier_from_option(None, threads)
 
 
 def classifier_from_option(option: str | None, threads: int = 1) -> BallClassifier | None:
     """The classifier a command-line option names: None -> the shipped one (if any), "none" -> no second stage,
     anything else -> that ONNX file."""
+    return _second_stage(option, threads, BallClassifier, default_classifier_path())
+
+
+def default_dot_refiner(threads: int = 1) -> DotRefiner | None:
+    """The diamond refiner shipped with the package, or None when this build has none."""
+    return dot_refiner_from_option(None, threads)
+
+
+def dot_refiner_from_option(option: str | None, threads: int = 1) -> DotRefiner | None:
+    """The refiner a command-line option names: None -> the shipped one (if any), "none" -> no second stage,
+    anything else -> that ONNX file."""
+    return _second_stage(option, threads, DotRefiner, default_dot_refiner_path())
+
+
+def _second_stage(option: str | None, threads: int, kind: type, shipped: Path):
+    """A second-stage model of class `kind` from an option: None -> `shipped` if the build has it, "none" -> None,
+    a path -> that file (missing or wrong files raise ValueError in `kind`)."""
     if option is None:
-        return default_classifier(threads)
+        return kind(shipped, threads) if shipped.is_file() else None
     if option.lower() == "none":
         return None
-    return BallClassifier(option, threads)
+    return kind(option, threads)
