@@ -45,6 +45,11 @@ def test_missing_or_wrong_model_is_a_clear_error(tmp_path):
     bad.write_bytes(b"not a model")
     with pytest.raises(ValueError, match="cannot load"):
         BallClassifier(bad)
+    from pix2pockets.vision.dot_refiner import default_dot_refiner_path
+
+    if default_dot_refiner_path().exists():  # the same crops in, but another kind of model
+        with pytest.raises(ValueError, match="not a ball classifier"):
+            BallClassifier(default_dot_refiner_path())
 
 
 @pytest.mark.skipif(not default_classifier_path().exists(), reason="no ball classifier committed")

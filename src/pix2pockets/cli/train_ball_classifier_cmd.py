@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 
+from pix2pockets.cli.crop_training_options import add_crop_training_options, crop_training_settings
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser(
@@ -13,25 +15,22 @@ def register(sub: argparse._SubParsersAction) -> None:
         "datasets, train a small CNN on them and write OUT/ball-classifier.onnx and OUT/metrics.json (confusion "
         "matrix on the datasets' test splits).",
     )
-    parser.add_argument("--data", action="append", default=[], help="YOLO dataset with the five classes (repeatable)")
-    parser.add_argument("--out", required=True, help="output folder")
+    add_crop_training_options(
+        parser,
+        data_help="YOLO dataset with the five classes",
+        epochs=6,
+        copies=1,
+        centre_jitter=0.06,
+        thing="ball",
+        size_unit="ball diameters",
+    )
     parser.add_argument("--negatives", action="append", default=[], help="ball-only dataset for 'no ball' crops")
     parser.add_argument("--negatives-exclude", action="append", default=[], help="file-name glob left out")
-    parser.add_argument("--epochs", type=int, default=6, help="passes over the crops (default 6)")
-    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    parser.add_argument("--batch", type=int, default=256, help="crops per step (default 256)")
-    parser.add_argument("--lr", type=float, default=3e-3, help="peak learning rate (default 3e-3)")
-    parser.add_argument("--threads", type=int, default=1, help="torch CPU threads (default 1)")
-    parser.add_argument("--widths", default="16,32,64", help="channels of the three network stages (default 16,32,64)")
     parser.add_argument(
         "--head",
         choices=("grid", "mean"),
         default="grid",
         help="read the 4x4-pooled feature map (grid, default) or its mean over the crop (mean, the v2 classifier)",
-    )
-    parser.add_argument("--copies", type=int, default=1, help="jittered crops per labelled ball (default 1)")
-    parser.add_argument(
-        "--centre-jitter", type=float, default=0.06, help="largest crop centre shift in ball diameters (default 0.06)"
     )
     parser.add_argument("--scale-jitter", default="0.92,1.09", help="crop scale range lo,hi (default 0.92,1.09)")
     parser.add_argument(
@@ -43,7 +42,6 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=0.5,
         help="loss weight of a class = frequency ** -POWER (default 0.5; 0: unweighted)",
     )
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
 
@@ -53,33 +51,16 @@ def run(args: argparse.Namespace) -> int:
     except ImportError as err:
         raise ValueError(f"train-ball-classifier needs torch (pip install 'pix2pockets[train]'): {err}") from err
     cfg = CropTrainConfig(
-        data=tuple(args.data),
-        out=args.out,
+        **crop_training_settings(args),
         negatives=tuple(args.negatives),
         negatives_exclude=tuple(args.negatives_exclude),
-        epochs=args.epochs,
-        seed=args.seed,
-        batch=args.batch,
-        lr=args.lr,
-        threads=args.threads,
-        widths=parse_widths(args.widths),
         head=args.head,
-        copies=args.copies,
-        centre_jitter=args.centre_jitter,
         scale_jitter=_scale_range(args.scale_jitter),
         low_res=args.low_res,
         class_power=args.class_power,
     )
     print(f"wrote {train_crop_classifier(cfg, progress=not args.quiet)}")
     return 0
-
-
-def parse_widths(text: str) -> tuple[int, ...]:
-    """Channel counts from ``24,48,96``; their number and range are checked by ``CropTrainConfig``."""
-    try:
-        return tuple(int(v) for v in text.split(","))
-    except ValueError as err:
-        raise ValueError(f"--widths needs three comma-separated channel counts like 24,48,96, got {text!r}") from err
 
 
 def _scale_range(text: str) -> tuple[float, float]:

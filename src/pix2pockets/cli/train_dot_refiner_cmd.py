@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from pix2pockets.cli.train_ball_classifier_cmd import parse_widths
+from pix2pockets.cli.crop_training_options import add_crop_training_options, crop_training_settings
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -15,19 +15,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         "from YOLO datasets, train a small CNN to find the diamond's centre and write OUT/dot-refiner.onnx and "
         "OUT/metrics.json (centre errors on the datasets' test splits).",
     )
-    parser.add_argument("--data", action="append", default=[], help="YOLO dataset with diamond labels (repeatable)")
-    parser.add_argument("--out", required=True, help="output folder")
-    parser.add_argument("--epochs", type=int, default=10, help="passes over the crops (default 10)")
-    parser.add_argument("--seed", type=int, default=0, help="random seed (default 0)")
-    parser.add_argument("--batch", type=int, default=256, help="crops per step (default 256)")
-    parser.add_argument("--lr", type=float, default=3e-3, help="peak learning rate (default 3e-3)")
-    parser.add_argument("--threads", type=int, default=1, help="torch CPU threads (default 1)")
-    parser.add_argument("--widths", default="16,32,64", help="channels of the three network stages (default 16,32,64)")
-    parser.add_argument("--copies", type=int, default=3, help="shifted crops per labelled diamond (default 3)")
-    parser.add_argument(
-        "--centre-jitter", type=float, default=0.6, help="largest crop centre shift in diamond sides (default 0.6)"
+    add_crop_training_options(
+        parser,
+        data_help="YOLO dataset with diamond labels",
+        epochs=10,
+        copies=3,
+        centre_jitter=0.6,
+        thing="diamond",
+        size_unit="diamond sides",
     )
-    parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
 
@@ -36,17 +32,6 @@ def run(args: argparse.Namespace) -> int:
         from pix2pockets.vision.train.dot_trainer import DotTrainConfig, train_dot_refiner
     except ImportError as err:
         raise ValueError(f"train-dot-refiner needs torch (pip install 'pix2pockets[train]'): {err}") from err
-    cfg = DotTrainConfig(
-        data=tuple(args.data),
-        out=args.out,
-        epochs=args.epochs,
-        seed=args.seed,
-        batch=args.batch,
-        lr=args.lr,
-        threads=args.threads,
-        widths=parse_widths(args.widths),
-        copies=args.copies,
-        centre_jitter=args.centre_jitter,
-    )
+    cfg = DotTrainConfig(**crop_training_settings(args))
     print(f"wrote {train_dot_refiner(cfg, progress=not args.quiet)}")
     return 0

@@ -15,11 +15,13 @@ import numpy as np
 from pix2pockets.vision.ball_crops import CROP_SIZE, ball_diameters, crop_balls
 from pix2pockets.vision.classes import BALL_IDS
 from pix2pockets.vision.detections import Detections
-from pix2pockets.vision.onnx_session import open_session
+from pix2pockets.vision.onnx_session import open_crop_model
 
 DEFAULT_CLASSIFIER = "ball-classifier.onnx"
 N_OUTPUTS = 5
 """Probabilities of cue, black, solid, stripe (detector class ids 0-3) and "no ball"."""
+OUTPUT_NAME = "probs"
+"""Name of the classifier's ONNX output."""
 
 
 def default_classifier_path() -> Path:
@@ -40,10 +42,7 @@ class BallClassifier:
 
     def __init__(self, model_path: str | Path, threads: int = 1) -> None:
         path = Path(model_path)
-        self.session = open_session(path, threads, "ball classifier model")
-        shape = self.session.get_inputs()[0].shape
-        if len(shape) != 4 or shape[1:] != [CROP_SIZE, CROP_SIZE, 3]:
-            raise ValueError(f"{path} is not a ball classifier: input shape {shape}")
+        self.session = open_crop_model(path, threads, "ball classifier model", CROP_SIZE, OUTPUT_NAME, N_OUTPUTS)
         self.input_name = self.session.get_inputs()[0].name
         self.model_path = path
 

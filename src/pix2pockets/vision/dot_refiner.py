@@ -20,7 +20,7 @@ import numpy as np
 
 from pix2pockets.vision.ball_crops import crop_balls, crop_windows
 from pix2pockets.vision.detections import Detections
-from pix2pockets.vision.onnx_session import open_session
+from pix2pockets.vision.onnx_session import open_crop_model
 
 DEFAULT_DOT_REFINER = "dot-refiner.onnx"
 DOT_CROP_SIZE = 32
@@ -86,15 +86,7 @@ class DotRefiner:
 
     def __init__(self, model_path: str | Path, threads: int = 1) -> None:
         path = Path(model_path)
-        self.session = open_session(path, threads, "diamond refiner model")
-        shape = self.session.get_inputs()[0].shape
-        output = self.session.get_outputs()[0]
-        expected_input = [DOT_CROP_SIZE, DOT_CROP_SIZE, 3]
-        if shape[1:] != expected_input or output.shape[-1] != N_OUTPUTS or output.name != OUTPUT_NAME:
-            raise ValueError(
-                f"{path} is not a diamond refiner: input {shape}, output {output.name!r} {output.shape} (expected "
-                f"input [n, {DOT_CROP_SIZE}, {DOT_CROP_SIZE}, 3], output {OUTPUT_NAME!r} [n, {N_OUTPUTS}])"
-            )
+        self.session = open_crop_model(path, threads, "diamond refiner model", DOT_CROP_SIZE, OUTPUT_NAME, N_OUTPUTS)
         self.input_name = self.session.get_inputs()[0].name
         self.model_path = path
 

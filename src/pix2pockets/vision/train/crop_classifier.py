@@ -10,7 +10,6 @@ map over the crop first (the v2 classifier). About 80 k parameters, about 6 MFLO
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -18,11 +17,13 @@ import numpy as np
 import torch
 from torch import nn
 
+from pix2pockets.vision.ball_classifier import OUTPUT_NAME
 from pix2pockets.vision.ball_crops import CROP_SIZE
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.train.crop_data import CROP_LABELS, CropConfig, collect_crops
+from pix2pockets.vision.train.crop_fit import fit_crops, labelled_sources
 from pix2pockets.vision.train.onnx_export import write_onnx
-from pix2pockets.vision.yolo_data import dataset_class_map, load_split, load_splits
+from pix2pockets.vision.yolo_data import load_splits
 
 ONNX_NAME = "ball-classifier.onnx"
 
@@ -145,14 +146,7 @@ class CropTrainConfig:
 
 
 def _sources(cfg: CropTrainConfig, split: str) -> list:
-    out = []
-    for root in cfg.data:
-        cmap = dataset_class_map(root)
-        try:
-            out += [(it, cmap) for it in load_split(root, split)]
-        except ValueError:
-            if split == "train":
-                raise
+    out = labelled_sources(cfg.data, split)
     if split == "train":
         out += [(it, None) for it in load_splits(cfg.negatives, "train", cfg.negatives_exclude)]
     return out
@@ -195,12 +189,12 @@ def _confusion(model: CropNet, crops: np.ndarray, labels: np.ndarray) -> np.ndar
 def export_crop_classifier(model: CropNet, path: Path, size: int) -> Path:
     """Write the classifier (uint8 NHWC crops in, softmax probabilities out) as ONNX with a dynamic batch."""
     example = torch.zeros(2, size, size, 3, dtype=torch.uint8)
-    return write_onnx(_Exported(model), example, path, "crops", "probs", {"crops": {0: "n"}, "probs": {0: "n"}})
+    axes = {"crops": {0: "n"}, OUTPUT_NAME: {0: "n"}}
+    return write_onnx(_Exported(model), example, path, "crops", OUTPUT_NAME, axes)
 
 
 def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
     """Collect crops, train, report the held-out confusion matrix in ``metrics.json``, export; returns the ONNX."""
-    from tqdm import tqdm
 
     torch.set_num_threads(cfg.threads)
     torch.manual_seed(cfg.seed)
@@ -220,31 +214,22 @@ def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
     weight = torch.tensor(weight / (weight * counts).sum() * counts.sum(), dtype=torch.float32)
 
     model = CropNet(cfg.widths, cfg.head, crops.shape[1])
-    opt = torch.optim.AdamW(model.parameters(), lr=cfg.lr, weight_decay=1e-4)
-    gen = torch.Generator().manual_seed(cfg.seed)
-    order_rng = np.random.default_rng(cfg.seed)
-    steps_per_epoch = max(1, len(crops) // cfg.batch)
-    total = steps_per_epoch * cfg.epochs
-    x_all = torch.from_numpy(crops).permute(0, 3, 1, 2)
-    y_all = torch.from_numpy(labels)
-    bar = tqdm(total=total, desc="train ball classifier", disable=not progress)
-    step = 0
-    for _epoch in range(cfg.epochs):
-        model.train()
-        order = torch.from_numpy(order_rng.permutation(len(crops)))
-        for s in range(steps_per_epoch):
-            idx = order[s * cfg.batch : (s + 1) * cfg.batch]
-            x = augment(x_all[idx].float(), gen)
-            for g in opt.param_groups:
-                g["lr"] = cfg.lr * 0.5 * (1 + math.cos(math.pi * step / total))
-            loss = nn.functional.cross_entropy(model(x), y_all[idx], weight=weight)
-            opt.zero_grad()
-            loss.backward()
-            opt.step()
-            step += 1
-            bar.update(1)
-            bar.set_postfix(loss=f"{loss.item():.3f}")
-    bar.close()
+
+    def batch_loss(net: nn.Module, x: torch.Tensor, y: torch.Tensor, gen: torch.Generator) -> torch.Tensor:
+        return nn.functional.cross_entropy(net(augment(x, gen)), y, weight=weight)
+
+    fit_crops(
+        model,
+        crops,
+        torch.from_numpy(labels),
+        batch_loss,
+        epochs=cfg.epochs,
+        batch=cfg.batch,
+        lr=cfg.lr,
+        seed=cfg.seed,
+        desc="train ball classifier",
+        progress=progress,
+    )
 
     metrics = {"config": asdict(cfg), "train_counts": counts.astype(int).tolist(), "labels": list(CROP_LABELS)}
     if test_crops is not None and len(test_crops):

@@ -7,7 +7,6 @@ head (which keeps where things sit in the crop) and two outputs, trained with an
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -18,9 +17,9 @@ from torch import nn
 from pix2pockets.vision.dot_refiner import DEFAULT_DOT_REFINER, DOT_CROP_SIZE, N_OUTPUTS, OUTPUT_NAME
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.train.crop_classifier import CropNet, photometric
+from pix2pockets.vision.train.crop_fit import fit_crops, labelled_sources
 from pix2pockets.vision.train.dot_data import DotCropConfig, collect_dot_crops
 from pix2pockets.vision.train.onnx_export import write_onnx
-from pix2pockets.vision.yolo_data import dataset_class_map, load_split
 
 
 class _Exported(nn.Module):
@@ -117,56 +116,37 @@ def export_dot_refiner(model: CropNet, path: Path) -> Path:
     return write_onnx(_Exported(model), example, path, "crops", OUTPUT_NAME, axes)
 
 
-def _sources(cfg: DotTrainConfig, split: str) -> list:
-    out = []
-    for root in cfg.data:
-        cmap = dataset_class_map(root)
-        try:
-            out += [(it, cmap) for it in load_split(root, split)]
-        except ValueError:
-            if split == "train":
-                raise
-    return out
-
-
 def train_dot_refiner(cfg: DotTrainConfig, progress: bool = True) -> Path:
     """Collect crops, train, report held-out centre errors in ``metrics.json``, export; returns the ONNX path."""
-    from tqdm import tqdm
 
     torch.set_num_threads(cfg.threads)
     torch.manual_seed(cfg.seed)
     out = Path(cfg.out)
     out.mkdir(parents=True, exist_ok=True)
     crop_cfg = DotCropConfig(copies=cfg.copies, centre_jitter=cfg.centre_jitter)
-    crops, targets = collect_dot_crops(_sources(cfg, "train"), read_image_rgb, cfg.seed, crop_cfg, progress)
-    test = _sources(cfg, "test")
+    crops, targets = collect_dot_crops(
+        labelled_sources(cfg.data, "train"), read_image_rgb, cfg.seed, crop_cfg, progress
+    )
+    test = labelled_sources(cfg.data, "test")
 
     model = CropNet(cfg.widths, "grid", DOT_CROP_SIZE, N_OUTPUTS)
-    opt = torch.optim.AdamW(model.parameters(), lr=cfg.lr, weight_decay=1e-4)
-    gen = torch.Generator().manual_seed(cfg.seed)
-    order_rng = np.random.default_rng(cfg.seed)
-    steps_per_epoch = max(1, len(crops) // cfg.batch)
-    total = steps_per_epoch * cfg.epochs
-    x_all = torch.from_numpy(crops).permute(0, 3, 1, 2)
-    t_all = torch.from_numpy(targets)
-    bar = tqdm(total=total, desc="train diamond refiner", disable=not progress)
-    step = 0
-    for _epoch in range(cfg.epochs):
-        model.train()
-        order = torch.from_numpy(order_rng.permutation(len(crops)))
-        for s in range(steps_per_epoch):
-            idx = order[s * cfg.batch : (s + 1) * cfg.batch]
-            x, t = flip_rotate(x_all[idx].float(), t_all[idx], gen)
-            for g in opt.param_groups:
-                g["lr"] = cfg.lr * 0.5 * (1 + math.cos(math.pi * step / total))
-            loss = centre_loss(model(photometric(x, gen)), t)
-            opt.zero_grad()
-            loss.backward()
-            opt.step()
-            step += 1
-            bar.update(1)
-            bar.set_postfix(loss=f"{loss.item():.3f}")
-    bar.close()
+
+    def batch_loss(net: nn.Module, x: torch.Tensor, t: torch.Tensor, gen: torch.Generator) -> torch.Tensor:
+        x, t = flip_rotate(x, t, gen)
+        return centre_loss(net(photometric(x, gen)), t)
+
+    fit_crops(
+        model,
+        crops,
+        torch.from_numpy(targets),
+        batch_loss,
+        epochs=cfg.epochs,
+        batch=cfg.batch,
+        lr=cfg.lr,
+        seed=cfg.seed,
+        desc="train diamond refiner",
+        progress=progress,
+    )
 
     metrics = {"config": asdict(cfg), "train_crops": len(targets)}
     if test:
