@@ -32,6 +32,21 @@ def test_classifier_overrules_a_wrong_head_and_no_ball_lowers_every_class():
     assert det.confidence[0] > 2 * det.confidence[1]
 
 
+def test_two_cue_like_balls_share_the_cue_and_keep_their_own_scores():
+    heat = np.array([[0.9, 0.0, 0.0, 0.1], [0.9, 0.0, 0.0, 0.1], [0.1, 0.0, 0.0, 0.9]])
+    probs = np.array([[0.9, 0.0, 0.0, 0.1, 0.0], [0.9, 0.0, 0.0, 0.1, 0.0], [0.1, 0.0, 0.0, 0.9, 0.0]])
+    det = classified_balls(_balls(3), heat, probs, conf_threshold=0.01)
+    cue = det.class_id == 0
+    alone = classified_balls(_balls(1), heat[:1], probs[:1], conf_threshold=0.01)
+    own = 0.9 * 0.9
+    assert alone.confidence[alone.class_id == 0][0] == pytest.approx(own)  # no rival, nothing else in view
+    assert np.all(det.own_score[cue][:2] == pytest.approx(own))
+    assert det.confidence[cue][0] == pytest.approx(det.confidence[cue][1])
+    assert np.all(det.confidence[cue][:2] < 0.6 * own)  # the two rivals share it
+    stripes = det.class_id == 3
+    np.testing.assert_allclose(det.confidence[stripes], det.own_score[stripes])  # up to 7 stripes: not weighed
+
+
 def test_empty_and_threshold():
     assert len(classified_balls(_balls(0), np.zeros((0, 4)), np.zeros((0, 5)))) == 0
     det = classified_balls(_balls(1, conf=0.1), np.full((1, 4), 0.25), np.full((1, 5), 0.2), conf_threshold=0.2)

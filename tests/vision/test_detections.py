@@ -27,6 +27,17 @@ def test_to_list_and_concat():
     assert len(Detections.empty()) == 0
 
 
+def test_own_score_defaults_to_confidence_and_follows_selection():
+    det = make()
+    np.testing.assert_array_equal(det.own_score, det.confidence)
+    assert "own_score" not in det.to_list()[0]
+    weighed = Detections(det.boxes, [0.3, 0.4, 0.7], det.class_id, own_score=[0.9, 0.4, 0.7])
+    assert weighed[weighed.is_ball].own_score.tolist() == [0.9, 0.4]
+    both = Detections.concatenate([det, weighed])
+    assert both.own_score.tolist() == [0.9, 0.4, 0.7, 0.9, 0.4, 0.7]
+    assert weighed.to_list()[0]["own_score"] == 0.9 and "own_score" not in weighed.to_list()[1]
+
+
 def test_class_order():
     assert CLASS_NAMES == ("cue", "black", "solid", "stripe", "dot")
 
@@ -34,5 +45,7 @@ def test_class_order():
 def test_bad_lengths():
     with pytest.raises(ValueError, match="differ in length"):
         Detections(np.zeros((2, 4)), np.zeros(1), np.zeros(2))
+    with pytest.raises(ValueError, match="own_score 1"):
+        Detections(np.zeros((2, 4)), np.zeros(2), np.zeros(2), own_score=np.zeros(1))
     with pytest.raises(ValueError, match="class ids"):
         Detections(np.zeros((1, 4)), np.zeros(1), np.array([7]))

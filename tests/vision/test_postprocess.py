@@ -4,9 +4,9 @@ import pytest
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.postprocess import (
     apply_caps,
+    at_most_one_posterior,
     box_iou,
     class_agnostic_nms,
-    cue_posterior,
     nms_indices,
     postprocess,
     resolve_ball_classes,
@@ -130,14 +130,26 @@ def test_a_doubtful_ball_claims_the_cue_only_when_no_sure_ball_does():
     assert out.class_id[np.argmax(out.boxes[:, 0])] == 0  # the sure ball (0.5 cue vs 0.4 stripe) wins
 
 
-def test_cue_posterior_lifts_a_lone_cue_like_ball_and_splits_between_rivals():
-    lone = cue_posterior(np.array([0.7, 0.0, 0.02]))
+def test_at_most_one_posterior_keeps_a_lone_ball_and_splits_between_rivals():
+    lone = at_most_one_posterior(np.array([0.7, 0.0, 0.02]))
     assert lone[0] > 0.69 and lone[1] == 0.0  # no rival: about its own score (the rest is "no cue in view")
-    rivals = cue_posterior(np.array([0.7, 0.7]))
+    rivals = at_most_one_posterior(np.array([0.7, 0.7]))
     assert rivals[0] == pytest.approx(rivals[1]) and rivals.sum() < 0.9 and rivals[0] < 0.5
-    assert cue_posterior(np.array([0.999999, 0.1]))[0] > 0.99
-    np.testing.assert_allclose(cue_posterior(np.array([1.0, 0.5])), [1.0, 0.0])
-    assert len(cue_posterior(np.zeros(0))) == 0
+    assert at_most_one_posterior(np.array([0.999999, 0.1]))[0] > 0.99
+    np.testing.assert_allclose(at_most_one_posterior(np.array([1.0, 0.5])), [1.0, 0.0])
+    assert len(at_most_one_posterior(np.zeros(0))) == 0
+
+
+def test_balls_are_classed_by_their_own_scores():
+    boxes = np.array([_ball(0), _ball(0.5), _ball(100), _ball(100.5)])
+    cls = np.array([0, 3, 0, 3])
+    own = np.array([0.5, 0.4, 0.6, 0.9])  # ball 1 is more clearly the cue (0.5 of 0.9) than ball 2 (0.6 of 1.5)
+    weighed = np.array([0.2, 0.4, 0.3, 0.9])  # image-level cue chances a detector may report instead
+    plain = resolve_ball_classes(Detections(boxes, own, cls))
+    out = resolve_ball_classes(Detections(boxes, weighed, cls, own_score=own))
+    assert out.class_id.tolist() == plain.class_id.tolist()
+    np.testing.assert_allclose(out.confidence, plain.confidence)
+    assert out.class_id[np.argmin(out.boxes[:, 0])] == 0
 
 
 def test_resolved_cue_confidence_drops_when_another_ball_is_as_cue_like():

@@ -79,7 +79,7 @@ def clean_detections(raw: Detections) -> Detections:
     balls = raw[raw.is_ball]
     if len(det) and len(balls):
         overlap = box_iou(det.boxes, balls.boxes) >= DEFAULT_NMS_IOU
-        best_raw = np.where(overlap, balls.confidence[None, :], 0.0).max(axis=1)
+        best_raw = np.where(overlap, balls.own_score[None, :], 0.0).max(axis=1)
         score = np.where(det.is_ball, np.maximum(score, best_raw), score)
     return det[score >= MIN_CONFIDENCE[det.class_id]]
 

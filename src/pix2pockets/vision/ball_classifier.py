@@ -13,9 +13,10 @@ from pathlib import Path
 import numpy as np
 
 from pix2pockets.vision.ball_crops import CROP_SIZE, ball_diameters, crop_balls
-from pix2pockets.vision.classes import BALL_IDS
+from pix2pockets.vision.classes import BALL_IDS, BLACK_ID, CUE_ID
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.onnx_session import open_crop_model
+from pix2pockets.vision.postprocess import at_most_one_posterior
 
 DEFAULT_CLASSIFIER = "ball-classifier.onnx"
 N_OUTPUTS = 5
@@ -71,6 +72,10 @@ def classified_balls(
     splits (``docs/benchmarks-detector.md``); the "no ball" probability lowers every class score of a doubtful
     ball.
 
+    A table holds one cue ball and one 8, so their scores are then weighed across the image
+    (:func:`pix2pockets.vision.postprocess.at_most_one_posterior`): a stripe that looks as much like the cue
+    ball as the real one splits the chance with it. The scores before that are kept as ``own_score``.
+
     Args:
         balls: class-agnostic ball detections (the "any ball" heatmap peaks), class ids ignored.
         class_heat: (n, 4) the detector's cue, black, solid and stripe heatmap scores at those peaks.
@@ -81,7 +86,10 @@ def classified_balls(
     probs = np.asarray(probs, dtype=float).reshape(n, N_OUTPUTS)
     heat = np.asarray(class_heat, dtype=float).reshape(n, k)
     share = heat / np.maximum(heat.sum(axis=1, keepdims=True), 1e-9)
-    score = balls.confidence[:, None] * np.sqrt(probs[:, :k] * share)
-    keep = score >= conf_threshold
+    own = balls.confidence[:, None] * np.sqrt(probs[:, :k] * share)
+    score = own.copy()
+    for kind in (CUE_ID, BLACK_ID):  # columns follow BALL_IDS (0-3)
+        score[:, kind] = at_most_one_posterior(own[:, kind])
+    keep = own >= conf_threshold
     rows, cls = np.nonzero(keep)
-    return Detections(balls.boxes[rows], score[keep], np.asarray(BALL_IDS)[cls], balls.contact[rows])
+    return Detections(balls.boxes[rows], score[keep], np.asarray(BALL_IDS)[cls], balls.contact[rows], own[keep])

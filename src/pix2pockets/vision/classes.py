@@ -21,6 +21,8 @@ CLASS_NAMES: tuple[str, ...] = tuple(c.value for c in DetClass)
 """Class names by id: 0 cue, 1 black, 2 solid, 3 stripe, 4 dot (YOLO ``data.yaml`` order)."""
 
 DOT_ID = CLASS_NAMES.index("dot")
+CUE_ID = CLASS_NAMES.index("cue")
+BLACK_ID = CLASS_NAMES.index("black")
 BALL_IDS = tuple(range(4))
 MIN_DOT_BOX_PX = 4.0
 """Smallest side of a diamond box [px]: the synthetic labels pad a sight's outline to it, and the decoder maps

@@ -26,12 +26,17 @@ class Detections:
         class_id: (n,) class ids (see :data:`pix2pockets.vision.classes.CLASS_NAMES`).
         contact: (n, 2) predicted ball-cloth contact points [px], NaN where unknown (dots, or detectors that
             do not predict it).
+        own_score: (n,) each entry's score on its own evidence, before a detector weighed it against the
+            rest of the image (the cue ball and the 8 are each in view at most once, so a detector may
+            report their scores as image-level chances: :func:`pix2pockets.vision.postprocess.one_of_a_kind`).
+            Equal to ``confidence`` unless given.
     """
 
     boxes: np.ndarray
     confidence: np.ndarray
     class_id: np.ndarray
     contact: np.ndarray = field(default=None)  # type: ignore[assignment]
+    own_score: np.ndarray = field(default=None)  # type: ignore[assignment]
 
     def __post_init__(self) -> None:
         boxes = np.asarray(self.boxes, dtype=float).reshape(-1, 4)
@@ -41,10 +46,11 @@ class Detections:
         contact = (
             np.full((n, 2), np.nan) if self.contact is None else np.asarray(self.contact, dtype=float).reshape(-1, 2)
         )
-        if not (len(conf) == len(cls) == len(contact) == n):
+        own = conf.copy() if self.own_score is None else np.asarray(self.own_score, dtype=float).reshape(-1)
+        if not (len(conf) == len(cls) == len(contact) == len(own) == n):
             raise ValueError(
                 f"Detections arrays differ in length: boxes {n}, confidence {len(conf)}, class_id {len(cls)}, "
-                f"contact {len(contact)}"
+                f"contact {len(contact)}, own_score {len(own)}"
             )
         if n and (cls.min() < 0 or cls.max() >= len(CLASS_NAMES)):
             raise ValueError(f"class ids must be in 0..{len(CLASS_NAMES) - 1}")
@@ -52,6 +58,7 @@ class Detections:
         object.__setattr__(self, "confidence", conf)
         object.__setattr__(self, "class_id", cls)
         object.__setattr__(self, "contact", contact)
+        object.__setattr__(self, "own_score", own)
 
     @classmethod
     def empty(cls) -> Detections:
@@ -62,7 +69,9 @@ class Detections:
 
     def __getitem__(self, index: np.ndarray | slice | list[int]) -> Detections:
         """Select detections by boolean mask, index array or slice."""
-        return Detections(self.boxes[index], self.confidence[index], self.class_id[index], self.contact[index])
+        return Detections(
+            self.boxes[index], self.confidence[index], self.class_id[index], self.contact[index], self.own_score[index]
+        )
 
     @property
     def centres(self) -> np.ndarray:
@@ -82,14 +91,19 @@ class Detections:
         return self.class_id == DOT_ID
 
     def to_list(self) -> list[dict]:
-        """JSON-ready list of ``{class, confidence, bbox_px, contact_px}``."""
+        """JSON-ready list of ``{class, confidence, bbox_px, contact_px, own_score}`` (the last two when known
+        and, for ``own_score``, when it differs from ``confidence``)."""
         out = []
-        for b, c, k, p in zip(self.boxes, self.confidence, self.class_id, self.contact, strict=True):
+        for b, c, k, p, own in zip(
+            self.boxes, self.confidence, self.class_id, self.contact, self.own_score, strict=True
+        ):
             item = {
                 "class": CLASS_NAMES[k],
                 "confidence": round(float(c), 4),
                 "bbox_px": [round(float(v), 2) for v in b],
             }
+            if round(float(own), 4) != item["confidence"]:
+                item["own_score"] = round(float(own), 4)
             if np.all(np.isfinite(p)):
                 item["contact_px"] = [round(float(v), 2) for v in p]
             out.append(item)
@@ -104,4 +118,5 @@ class Detections:
             np.concatenate([p.confidence for p in parts]),
             np.concatenate([p.class_id for p in parts]),
             np.vstack([p.contact for p in parts]),
+            np.concatenate([p.own_score for p in parts]),
         )

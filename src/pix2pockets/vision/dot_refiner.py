@@ -112,4 +112,4 @@ class DotRefiner:
         half = 0.5 * (boxes[todo, 2:] - boxes[todo, :2])
         h, w = image_rgb.shape[:2]
         boxes[todo] = np.clip(np.hstack([centre - half, centre + half]), 0, [w, h, w, h])
-        return Detections(boxes, dots.confidence, dots.class_id, dots.contact)
+        return Detections(boxes, dots.confidence, dots.class_id, dots.contact, dots.own_score)

@@ -124,7 +124,7 @@ def dots_off_table(dets: Sequence[Detections], tables: Sequence[np.ndarray | Non
 
 def _agnostic(dets: Sequence[Detections], gts: Sequence[GroundTruth], conf: float, balls_only: bool = True) -> dict:
     pooled = [d[d.is_ball] if balls_only else d for d in dets]
-    pooled = [Detections(d.boxes, d.confidence, np.zeros(len(d), int)) for d in pooled]
+    pooled = [Detections(d.boxes, d.own_score, np.zeros(len(d), int)) for d in pooled]  # a ball's own evidence
     return {"ball": evaluate_class(pooled, gts, None, conf).as_dict()}
 
 

@@ -102,18 +102,18 @@ CLAIM_MIN_SCORE = 0.25
 """Balls whose best class score is below this claim the cue or the 8 only when no surer ball does."""
 
 
-def cue_posterior(cue_scores: np.ndarray) -> np.ndarray:
-    """Chance that each of one image's balls is the cue ball, given that a table holds at most one.
+def at_most_one_posterior(scores: np.ndarray) -> np.ndarray:
+    """Chance that each of one image's balls is the ball of a kind a table holds at most once (cue, 8).
 
-    Read each ball's cue score c_i as the chance that it is there and is the cue ball, independently of the
-    others. Under "at most one cue ball" ball i is the cue with probability o_i / (1 + sum_j o_j), odds
-    o = c / (1 - c) (the 1 is the "no cue ball in view" case). A ball found only half cue-like (a cue ball
-    half hidden by the stick, or seen small and blurred) becomes a confident cue ball when no other ball
-    looks like one; two cue-like balls share the chance.
+    Read each ball's score c_i for the kind as the chance that it is there and is that ball, independently of
+    the others. Under "at most one" ball i is it with probability o_i / (1 + sum_j o_j), odds o = c / (1 - c)
+    (the 1 is the "not in view" case). A ball with no rival keeps about its own score; balls that look alike
+    share the chance, so a stripe seen from its white pole scores low beside a clear cue ball. Never above
+    the ball's own score.
     """
-    c = np.clip(np.asarray(cue_scores, dtype=float), 0.0, 1.0)
+    c = np.clip(np.asarray(scores, dtype=float), 0.0, 1.0)
     certain = c >= 1.0
-    if certain.any():  # the limit of infinite odds: the certain balls share the cue ball
+    if certain.any():  # the limit of infinite odds: the certain balls share the kind
         return certain / certain.sum()
     odds = c / (1.0 - c)
     return odds / (1.0 + odds.sum())
@@ -133,20 +133,25 @@ def resolve_ball_classes(det: Detections, iou_threshold: float = DEFAULT_NMS_IOU
     hidden by the cue stick is found with less confidence than an open stripe seen from its white pole
     (doubtful balls only get a class when no sure ball claims it). On the 720p test renders this lifts cue
     AP50 from 71 to 82 over ranking by score (``docs/benchmarks-detector.md``). The chosen cue ball's
-    confidence is then its :func:`cue_posterior` (cue AP50 +1 to +2 on the test renders).
+    confidence is then its :func:`at_most_one_posterior` (cue AP50 +1 to +2 on the test renders).
+
+    Balls are grouped and classed by each entry's ``own_score``: a detector that reports the cue and the 8
+    as image-level chances (:func:`pix2pockets.vision.ball_classifier.classified_balls`) is resolved as one
+    that does not.
     """
     balls, dots = det[det.is_ball], det[det.is_dot]
     if not len(balls):
         return postprocess(det, iou_threshold)
     used = np.zeros(len(balls), dtype=bool)
     leaders, scores = [], []
-    for i in np.argsort(-balls.confidence, kind="stable"):
+    own = balls.own_score
+    for i in np.argsort(-own, kind="stable"):
         if used[i]:
             continue
         members = np.flatnonzero((box_iou(balls.boxes[i : i + 1], balls.boxes)[0] >= iou_threshold) & ~used)
         used[members] = True
         per_class = np.zeros(4)
-        np.maximum.at(per_class, balls.class_id[members], balls.confidence[members])
+        np.maximum.at(per_class, balls.class_id[members], own[members])
         leaders.append(i)
         scores.append(per_class)
     S = np.array(scores)
@@ -164,7 +169,7 @@ def resolve_ball_classes(det: Detections, iou_threshold: float = DEFAULT_NMS_IOU
     assigned[rest] = 2 + np.argmax(S[rest, 2:], axis=1)
     conf = S[np.arange(len(S)), assigned]
     conf = np.where(conf > 0, conf, S.max(axis=1))
-    conf[assigned == 0] = cue_posterior(S[:, 0])[assigned == 0]
+    conf[assigned == 0] = at_most_one_posterior(S[:, 0])[assigned == 0]
     idx = np.asarray(leaders, dtype=int)
     resolved = Detections(balls.boxes[idx], conf, assigned, balls.contact[idx])
     return postprocess(Detections.concatenate([resolved, dots]), iou_threshold)
