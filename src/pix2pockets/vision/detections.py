@@ -28,7 +28,8 @@ class Detections:
             do not predict it).
         own_score: (n,) each entry's score on its own evidence, before a detector weighed it against the
             rest of the image (the cue ball and the 8 are each in view at most once, so a detector may
-            report their scores as image-level chances: :func:`pix2pockets.vision.postprocess.one_of_a_kind`).
+            report their scores as image-level chances,
+            :func:`pix2pockets.vision.postprocess.at_most_one_posterior`).
             Equal to ``confidence`` unless given.
     """
 
