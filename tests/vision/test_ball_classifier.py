@@ -84,22 +84,3 @@ def test_shipped_classifier_tells_ball_classes_apart_on_a_fresh_render():
     assert np.allclose(probs.sum(axis=1), 1.0, atol=1e-4)
     assert (probs.argmax(axis=1) == truth).mean() >= 0.6
     assert probs[:, 4].mean() < 0.5  # balls are not read as "no ball"
-
-
-@pytest.mark.skipif(not default_classifier_path().exists(), reason="no ball classifier committed")
-def test_only_peaks_above_the_gate_are_cropped_the_rest_keep_the_detector_class_shares(monkeypatch):
-    clf = BallClassifier.from_default()
-    asked = []
-
-    def fake_classify(image_rgb, boxes):
-        asked.append(np.asarray(boxes).copy())
-        return np.tile([0.0, 0.0, 0.0, 1.0, 0.0], (len(boxes), 1)).astype(np.float32)
-
-    monkeypatch.setattr(clf, "classify", fake_classify)
-    balls = Detections(_balls(2).boxes, np.array([0.9, 0.05]), np.zeros(2, int))
-    heat = np.array([[0.1, 0.1, 0.6, 0.2], [0.2, 0.0, 0.6, 0.2]])
-    probs = clf.classify_peaks(np.zeros((64, 128, 3), np.uint8), balls, heat, min_score=0.1)
-    assert len(asked) == 1 and asked[0].tolist() == balls.boxes[:1].tolist()
-    np.testing.assert_allclose(probs[0], [0, 0, 0, 1, 0])
-    np.testing.assert_allclose(probs[1], [0.2, 0.0, 0.6, 0.2, 0.0], atol=1e-6)
-    assert len(asked) == 1 and len(clf.classify_peaks(np.zeros((8, 8, 3), np.uint8), balls[:0], heat[:0])) == 0

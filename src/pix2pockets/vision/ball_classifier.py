@@ -23,10 +23,6 @@ N_OUTPUTS = 5
 """Probabilities of cue, black, solid, stripe (detector class ids 0-3) and "no ball"."""
 OUTPUT_NAME = "probs"
 """Name of the classifier's ONNX output."""
-CLASSIFY_MIN_SCORE = 0.1
-"""Ball peaks scoring below this are not classified from crops; they keep the detector's class shares (all their
-class scores stay below it either way). About 15 instead of 35 crops per image, AP50 within 0.2
-(``docs/benchmarks-detector.md``, eleventh session)."""
 
 
 def default_classifier_path() -> Path:
@@ -64,19 +60,6 @@ class BallClassifier:
         centres = 0.5 * (boxes[:, :2] + boxes[:, 2:])
         crops = crop_balls(image_rgb, centres, ball_diameters(boxes))
         return self.session.run(None, {self.input_name: crops})[0]
-
-    def classify_peaks(
-        self, image_rgb: np.ndarray, balls: Detections, class_heat: np.ndarray, min_score: float = CLASSIFY_MIN_SCORE
-    ) -> np.ndarray:
-        """Probabilities (n, 5) for the detector's ball peaks: from crops where a peak scores at least
-        ``min_score``, elsewhere the detector's class-heatmap shares (n, 4) with "no ball" 0."""
-        heat = np.asarray(class_heat, dtype=float).reshape(len(balls), len(BALL_IDS))
-        probs = np.zeros((len(balls), N_OUTPUTS), dtype=np.float32)
-        probs[:, : len(BALL_IDS)] = heat / np.maximum(heat.sum(axis=1, keepdims=True), 1e-9)
-        sure = balls.confidence >= min_score
-        if sure.any():
-            probs[sure] = self.classify(image_rgb, balls.boxes[sure])
-        return probs
 
 
 def classified_balls(

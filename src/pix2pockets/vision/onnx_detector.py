@@ -122,7 +122,7 @@ class OnnxDetector:
             balls = decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=BALL_IDS, image_size=size)
         else:
             balls, heat = decode_ball_peaks(out, box, c.conf_threshold, c.max_detections, image_size=size)
-            probs = self.classifier.classify_peaks(image_rgb, balls, heat)
+            probs = self.classifier.classify(image_rgb, balls.boxes)
             balls = classified_balls(balls, heat, probs, c.conf_threshold)
         dots = decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=(DOT_ID,), image_size=size)
         if self.dot_refiner is not None:
