@@ -13,7 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from pix2pockets.vision.ball_crops import CROP_SIZE, ball_diameters, crop_balls
-from pix2pockets.vision.classes import BALL_IDS, BLACK_ID, CUE_ID
+from pix2pockets.vision.classes import BALL_IDS, ONE_PER_TABLE
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.onnx_session import open_crop_model
 from pix2pockets.vision.postprocess import at_most_one_posterior
@@ -88,7 +88,7 @@ def classified_balls(
     share = heat / np.maximum(heat.sum(axis=1, keepdims=True), 1e-9)
     own = balls.confidence[:, None] * np.sqrt(probs[:, :k] * share)
     score = own.copy()
-    for kind in (CUE_ID, BLACK_ID):  # columns follow BALL_IDS (0-3)
+    for kind in ONE_PER_TABLE:  # score columns are the ball class ids (BALL_IDS, 0-3)
         score[:, kind] = at_most_one_posterior(own[:, kind])
     keep = own >= conf_threshold
     rows, cls = np.nonzero(keep)

@@ -21,8 +21,6 @@ CLASS_NAMES: tuple[str, ...] = tuple(c.value for c in DetClass)
 """Class names by id: 0 cue, 1 black, 2 solid, 3 stripe, 4 dot (YOLO ``data.yaml`` order)."""
 
 DOT_ID = CLASS_NAMES.index("dot")
-CUE_ID = CLASS_NAMES.index("cue")
-BLACK_ID = CLASS_NAMES.index("black")
 BALL_IDS = tuple(range(4))
 MIN_DOT_BOX_PX = 4.0
 """Smallest side of a diamond box [px]: the synthetic labels pad a sight's outline to it, and the decoder maps
@@ -36,6 +34,9 @@ DETECTION_CAPS: tuple[int, ...] = (
     18,
 )
 """Most detections of each class an image can hold (paper section 6.1): 1, 1, 7, 7, 18."""
+
+ONE_PER_TABLE: tuple[int, ...] = tuple(k for k in BALL_IDS if DETECTION_CAPS[k] == 1)
+"""Ball classes a table holds once (cue, then black): their scores are weighed across the image."""
 
 
 def ball_class_of(class_id: int) -> BallClass:

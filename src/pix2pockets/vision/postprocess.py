@@ -18,7 +18,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
-from pix2pockets.vision.classes import DETECTION_CAPS
+from pix2pockets.vision.classes import DETECTION_CAPS, ONE_PER_TABLE
 from pix2pockets.vision.detections import Detections
 
 DEFAULT_NMS_IOU = 0.5
@@ -159,7 +159,7 @@ def resolve_ball_classes(det: Detections, iou_threshold: float = DEFAULT_NMS_IOU
     assigned = np.full(len(S), -1)
     share = S / np.maximum(S.sum(axis=1, keepdims=True), 1e-9)
     sure = S.max(axis=1) >= CLAIM_MIN_SCORE
-    for k in (0, 1):  # cue, then black: at most one ball each
+    for k in ONE_PER_TABLE:  # cue, then black: at most one ball each
         evidence = np.where(sure, share[:, k], 0.1 * S[:, k] * S[:, k] / best)
         claim = np.where(assigned < 0, evidence, -1.0)
         j = int(np.argmax(claim))
