@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 
 from pix2pockets.cli.crop_training_options import add_crop_training_options, crop_training_settings
+from pix2pockets.cli.parsing import parse_number_pair
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -55,18 +56,9 @@ def run(args: argparse.Namespace) -> int:
         negatives=tuple(args.negatives),
         negatives_exclude=tuple(args.negatives_exclude),
         head=args.head,
-        scale_jitter=_scale_range(args.scale_jitter),
+        scale_jitter=parse_number_pair(args.scale_jitter, "--scale-jitter", "0.92,1.09"),
         low_res=args.low_res,
         class_power=args.class_power,
     )
     print(f"wrote {train_crop_classifier(cfg, progress=not args.quiet)}")
     return 0
-
-
-def _scale_range(text: str) -> tuple[float, float]:
-    """``lo,hi`` from ``0.92,1.09``; the range itself is checked by ``CropTrainConfig``."""
-    try:
-        lo, hi = (float(v) for v in text.split(","))
-    except ValueError as err:
-        raise ValueError(f"--scale-jitter needs two comma-separated numbers like 0.92,1.09, got {text!r}") from err
-    return lo, hi

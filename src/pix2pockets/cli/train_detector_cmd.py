@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from pix2pockets.cli.parsing import parse_number_pair
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser(
@@ -38,6 +40,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--balls-fraction", type=float, default=0.25, help="ball-only images per epoch (fraction)")
     parser.add_argument("--batch", type=int, default=8, help="images per step (default 8)")
     parser.add_argument("--crop", type=int, default=320, help="training crop side in px (default 320)")
+    parser.add_argument(
+        "--stretch",
+        default="0.5,2.0",
+        help="pixel aspect range LO,HI (x over y) of stretched samples, as photos squashed to another aspect "
+        "ratio by an export (default 0.5,2.0; a 16:9 frame stretched to 640x640 is 0.5625)",
+    )
+    parser.add_argument(
+        "--stretch-fraction", type=float, default=0.0, help="share of training samples stretched (default 0)"
+    )
     parser.add_argument("--lr", type=float, default=2e-3, help="peak learning rate (default 2e-3)")
     parser.add_argument("--threads", type=int, default=1, help="torch CPU threads (default 1)")
     parser.add_argument("--limit", type=int, default=None, help="use only the first N training images")
@@ -67,6 +78,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     try:
+        from pix2pockets.vision.train.targets import AugmentConfig
         from pix2pockets.vision.train.trainer import TrainConfig, train
     except ImportError as err:
         raise ValueError(f"train-detector needs torch (pip install 'pix2pockets[train]'): {err}") from err
@@ -93,6 +105,11 @@ def run(args: argparse.Namespace) -> int:
         max_minutes=args.max_minutes,
         pretrained=not args.no_pretrained,
         init=args.init,
+        augment=AugmentConfig(
+            crop=args.crop,
+            stretch_range=parse_number_pair(args.stretch, "--stretch", "0.5,2.0"),
+            stretch_fraction=args.stretch_fraction,
+        ),
     )
     path = train(cfg, resume=args.resume, progress=not args.quiet)
     print(f"wrote {path}")

@@ -3,6 +3,7 @@
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from pix2pockets.vision.train.targets import AugmentConfig, make_sample
 from pix2pockets.vision.yolo_data import LabelledImage
@@ -52,3 +53,42 @@ def test_ball_only_photo_with_a_table_box_supervises_diamonds_off_the_table():
     assert with_table.off_table[5, 5] == 1 and with_table.off_table[150, 150] == 1
     without = make_sample(image, item, {0: 0}, True, cfg, np.random.default_rng(0))
     assert without.off_table.sum() == 0
+
+
+def test_stretched_sample_scales_image_and_boxes_by_the_same_aspect():
+    """A stretch of aspect 0.5 halves widths against heights: the stored box size and the pixels agree."""
+    cfg = AugmentConfig(
+        crop=640, scale_range=(1.0, 1.0), flip=False, colour=0.0, stretch_range=(0.5, 0.5), stretch_fraction=1.0
+    )
+    image = np.zeros((480, 640, 3), np.uint8)
+    image[100:120, 100:120] = 255  # the cue ball's box, drawn white
+    s = make_sample(image, _item(), {k: k for k in range(5)}, False, cfg, np.random.default_rng(0))
+    n = int(s.reg_mask.sum())
+    cue = int(np.flatnonzero(s.ball_class[:n] == 0)[0])
+    w, h = np.exp(s.size[cue]) * 4  # log(w/4), log(h/4) in crop pixels
+    assert np.isclose(h / w, 2.0)
+    ys, xs = np.nonzero(s.image[0] > 0.5)
+    assert np.isclose((ys.max() - ys.min() + 1) / (xs.max() - xs.min() + 1), h / w, rtol=0.15)
+
+
+def test_no_stretch_draws_nothing_from_the_random_stream():
+    """stretch_fraction 0 keeps older augmentation settings byte-identical."""
+    image = np.random.default_rng(1).integers(0, 255, (480, 640, 3), dtype=np.uint8)
+    plain = AugmentConfig()
+    a = make_sample(image, _item(), {k: k for k in range(5)}, False, plain, np.random.default_rng(3))
+    b = make_sample(
+        image,
+        _item(),
+        {k: k for k in range(5)},
+        False,
+        AugmentConfig(stretch_range=(0.5, 2.0)),
+        np.random.default_rng(3),
+    )
+    assert np.array_equal(a.image, b.image) and np.array_equal(a.size, b.size)
+
+
+def test_stretch_settings_are_checked():
+    with pytest.raises(ValueError, match="stretch range"):
+        AugmentConfig(stretch_range=(2.0, 0.5))
+    with pytest.raises(ValueError, match="stretch fraction"):
+        AugmentConfig(stretch_fraction=1.5)

@@ -8,6 +8,7 @@ sample.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import cv2
@@ -32,6 +33,11 @@ class AugmentConfig:
         scale_range: extra random zoom range applied after that.
         flip: allow horizontal flips.
         colour: strength of brightness/contrast/hue-ish jitter (0 = off).
+        stretch_range: pixel aspect ratios (x scale over y scale) drawn log-uniformly for stretched samples:
+            photos exported at another aspect ratio, as a 16:9 frame squashed to 640x640 (0.5625) by a
+            Roboflow export, or a portrait photo (1.78).
+        stretch_fraction: share of samples that are stretched (0 = none; no random draw is spent then, so
+            older settings augment exactly as before).
     """
 
     crop: int = 320
@@ -39,6 +45,15 @@ class AugmentConfig:
     scale_range: tuple[float, float] = (0.7, 1.4)
     flip: bool = True
     colour: float = 0.25
+    stretch_range: tuple[float, float] = (0.5, 2.0)
+    stretch_fraction: float = 0.0
+
+    def __post_init__(self) -> None:
+        lo, hi = self.stretch_range
+        if not 0 < lo <= hi:
+            raise ValueError(f"stretch range must be 0 < lo <= hi, got {self.stretch_range}")
+        if not 0 <= self.stretch_fraction <= 1:
+            raise ValueError(f"stretch fraction must be in [0, 1], got {self.stretch_fraction}")
 
 
 @dataclass(frozen=True, slots=True)
@@ -125,17 +140,21 @@ def make_sample(
     h, w = image_rgb.shape[:2]
     s = cfg.crop
     scale = cfg.base_long_side / max(h, w) * rng.uniform(*cfg.scale_range)
-    sw, sh = w * scale, h * scale
+    sx = sy = scale
+    if cfg.stretch_fraction > 0 and rng.random() < cfg.stretch_fraction:
+        aspect = math.exp(rng.uniform(*np.log(cfg.stretch_range)))
+        sx, sy = scale * math.sqrt(aspect), scale / math.sqrt(aspect)
+    sw, sh = w * sx, h * sy
     # Crop origin in scaled-image pixels; crops may extend past the image (padded).
     ox = rng.uniform(min(0.0, sw - s), max(0.0, sw - s))
     oy = rng.uniform(min(0.0, sh - s), max(0.0, sh - s))
     flip = cfg.flip and rng.random() < 0.5
     # Continuous pixel coordinates (corner convention): x' = ax * x + bx (a flip mirrors inside the crop),
-    # y' = scale * y - oy. OpenCV maps pixel indices (centres), hence the half-pixel terms in M.
-    ax = -scale if flip else scale
+    # y' = sy * y - oy. OpenCV maps pixel indices (centres), hence the half-pixel terms in M.
+    ax = -sx if flip else sx
     bx = s + ox if flip else -ox
-    M = np.array([[ax, 0, bx + 0.5 * ax - 0.5], [0, scale, -oy + 0.5 * scale - 0.5]], dtype=np.float64)
-    interp = cv2.INTER_AREA if scale < 1 else cv2.INTER_LINEAR
+    M = np.array([[ax, 0, bx + 0.5 * ax - 0.5], [0, sy, -oy + 0.5 * sy - 0.5]], dtype=np.float64)
+    interp = cv2.INTER_AREA if min(sx, sy) < 1 else cv2.INTER_LINEAR
     crop = cv2.warpAffine(
         image_rgb, M, (s, s), flags=interp, borderMode=cv2.BORDER_CONSTANT, borderValue=(PAD_VALUE,) * 3
     )
@@ -158,10 +177,8 @@ def make_sample(
     if len(boxes):
         x1 = boxes[:, 0] * ax + bx
         x2 = boxes[:, 2] * ax + bx
-        boxes = np.stack(
-            [np.minimum(x1, x2), boxes[:, 1] * scale - oy, np.maximum(x1, x2), boxes[:, 3] * scale - oy], 1
-        )
-    cont = np.stack([item.contact[:, 0] * ax + bx, item.contact[:, 1] * scale - oy], 1) if len(boxes) else boxes[:, :2]
+        boxes = np.stack([np.minimum(x1, x2), boxes[:, 1] * sy - oy, np.maximum(x1, x2), boxes[:, 3] * sy - oy], 1)
+    cont = np.stack([item.contact[:, 0] * ax + bx, item.contact[:, 1] * sy - oy], 1) if len(boxes) else boxes[:, :2]
     off_table = np.zeros((out, out), np.float32)
     if ball_only and table_class is not None and len(boxes):
         tables = boxes[item.class_id == table_class]

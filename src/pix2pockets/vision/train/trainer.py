@@ -87,6 +87,8 @@ class TrainConfig:
             raise ValueError("epochs, batch and threads must be >= 1")
         if self.crop % 32 or self.crop < 64:
             raise ValueError(f"crop must be a multiple of 32 and >= 64, got {self.crop}")
+        if self.augment.crop != self.crop:
+            raise ValueError(f"crop {self.crop} and augment.crop {self.augment.crop} differ; set both")
         if self.limit is not None and self.limit < 1:
             raise ValueError("limit must be >= 1")
         if not (self.lr > 0 and 0 <= self.balls_fraction <= 4):
