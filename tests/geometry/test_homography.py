@@ -68,3 +68,47 @@ def test_image_to_table_inverts_projection():
     xy = np.array([[0.3, 0.2], [2.0, 1.1]])
     np.testing.assert_allclose(image_to_table(cam, cam.project_table(xy, 0.02), 0.02), xy, atol=1e-9)
     assert camera_tilt(cam) == pytest.approx(math.atan2(math.hypot(2.07, 1.635), 2.2), abs=1e-6)
+
+
+def stretched(cam: PinholeCamera, aspect: float) -> PinholeCamera:
+    """The same camera with its image's x axis scaled by ``aspect`` (a photo stretched by an export)."""
+    w, h = cam.image_size
+    return PinholeCamera(np.diag([aspect, 1.0, 1.0]) @ cam.K, cam.R, cam.t, (round(w * aspect), h))
+
+
+@pytest.mark.parametrize("aspect", [0.5625, 1.0, 16 / 9])
+def test_camera_from_homography_fits_the_pixel_aspect_of_a_stretched_photo(aspect):
+    spec = TableSpec()
+    z = spec.cushion_height
+    rolled = PinholeCamera.look_at(np.array([-0.8, -1.0, 2.2]), np.array([1.27, 0.635, 0.0]), 950.0, (1280, 720), 0.3)
+    cam = stretched(rolled, aspect)
+    world = np.column_stack([spec.diamonds, np.full(18, z)])
+    uv = cam.project(world)
+    H = cam.table_homography(z)
+    rec = camera_from_homography(H, cam.image_size, z=z, world_points=world, image_points=uv, pixel_aspect=None)
+    assert rec.K[0, 0] / rec.K[1, 1] == pytest.approx(aspect, rel=1e-6)
+    np.testing.assert_allclose(rec.position, cam.position, atol=1e-3)
+    known = camera_from_homography(H, cam.image_size, z=z, world_points=world, image_points=uv, pixel_aspect=aspect)
+    np.testing.assert_allclose(known.project(world), uv, atol=0.05)  # the weak focal prior pulls a little
+    if aspect != 1.0:  # square pixels cannot explain a stretched photo
+        square = camera_from_homography(H, cam.image_size, z=z, world_points=world, image_points=uv)
+        assert np.abs(square.project(world) - uv).max() > 5.0
+
+
+def test_a_level_camera_cannot_tell_a_stretch_but_the_table_plane_still_fits():
+    """Roll 0: the diamond plane is explained exactly by more than one (focal, aspect); any choice fits it."""
+    spec = TableSpec()
+    z = spec.cushion_height
+    cam = stretched(oblique_camera(), 0.5625)
+    world = np.column_stack([spec.diamonds, np.full(18, z)])
+    uv = cam.project(world)
+    rec = camera_from_homography(
+        cam.table_homography(z), cam.image_size, z=z, world_points=world, image_points=uv, pixel_aspect=None
+    )
+    np.testing.assert_allclose(rec.project(world), uv, atol=0.05)
+
+
+def test_camera_from_homography_takes_square_pixels_without_enough_points():
+    cam = stretched(oblique_camera(), 0.75)
+    rec = camera_from_homography(cam.table_homography(0.0), cam.image_size, pixel_aspect=None)
+    assert rec.K[0, 0] == rec.K[1, 1]

@@ -3,7 +3,9 @@
 import json
 from pathlib import Path
 
+import cv2
 import numpy as np
+import pytest
 
 from pix2pockets.cli.suggest_cmd import EXAMPLE_LABELS, example_photo_path
 from pix2pockets.geometry import table_preset
@@ -11,6 +13,7 @@ from pix2pockets.pipeline.photo import load_image, suggest
 from pix2pockets.state import Ball, TableLayout
 from pix2pockets.vision.analytic import detections_from_synth_labels
 from pix2pockets.vision.ball_location import locate_balls
+from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.table_fit import fit_table
 
 LABELS = json.loads((Path(example_photo_path()).parent / EXAMPLE_LABELS).read_text())
@@ -89,3 +92,36 @@ def test_suggestion_reports_the_rail_height():
     assert abs(doc["diamond_height_m"] - LABELS["heights_m"]["diamonds"]) < 0.008
     assumed = suggest(example_photo_path(), detector=LabelsDetector(), measure_rail_height=False)
     assert not assumed.to_dict()["table"]["diamond_height_measured"]
+
+
+class SquashedLabelsDetector:
+    """The exact labels of the example squashed like its image: 1280x720 -> 640x640 (x 0.5, y 0.889)."""
+
+    scale = np.array([640 / 1280, 640 / 720, 640 / 1280, 640 / 720])
+
+    def detect(self, image_rgb):
+        det = detections_from_synth_labels(LABELS, silhouette=True)
+        return Detections(det.boxes * self.scale, det.confidence, det.class_id, det.contact * self.scale[:2])
+
+
+def squashed_example() -> np.ndarray:
+    return cv2.resize(load_image(example_photo_path()), (640, 640), interpolation=cv2.INTER_AREA)
+
+
+def test_example_squashed_to_a_square_like_a_roboflow_export_gives_the_same_table():
+    """The paper's dataset is 640x640 exports of 16:9 frames: the fit finds the stretch (pixel aspect 0.5625)."""
+    res = suggest(squashed_example(), detector=SquashedLabelsDetector(), spec=SPEC, measure_rail_height=False)
+    assert res.to_dict()["table"]["pixel_aspect"] == pytest.approx(0.5625, rel=0.02)
+    xy = aligned(np.array([b.table_xy_m for b in res.balls]))
+    err = np.linalg.norm(xy[:, None] - true_layout().positions[None], axis=-1).min(axis=1)
+    assert err.max() < 0.015
+
+
+def test_bundled_detector_on_the_squashed_example_finds_the_same_balls():
+    square = suggest(example_photo_path(), spec=SPEC)
+    squashed = suggest(squashed_example(), spec=SPEC)
+    a = np.array([b.table_xy_m for b in square.balls])
+    b = np.array([b.table_xy_m for b in squashed.balls])
+    assert abs(len(a) - len(b)) <= 1
+    assert np.median(np.linalg.norm(a[:, None] - b[None], axis=-1).min(axis=1)) < 0.01
+    assert squashed.to_dict()["table"]["pixel_aspect"] == pytest.approx(0.5625, rel=0.02)

@@ -157,3 +157,27 @@ def test_reprojection_check_rejects_a_camera_that_misses_the_dots():
     moved = PinholeCamera(cam.K, cam.R, cam.t + np.array([0.02, 0.0, 0.0]), cam.image_size)
     with pytest.raises(TableFitError, match="do not fit one camera"):
         check_reprojection(moved, pts, index, h, SPEC)
+
+
+@pytest.mark.parametrize(("view", "aspect"), [("top", 0.5625), ("top", 0.75), ("top", 16 / 9), ("45", 0.5625)])
+def test_photo_stretched_to_another_aspect_still_gives_the_table(view, aspect):
+    """A 16:9 broadcast frame squashed to 640x640 (the paper's Roboflow export) still gives the table.
+
+    A top view cannot tell a mild stretch (0.75) from a tilted camera, so only the table's place is checked:
+    where square pixels fail, the fitted camera has the photo's aspect."""
+    cam = VIEWS[view]
+    w, h = cam.image_size
+    squashed = PinholeCamera(np.diag([aspect, 1.0, 1.0]) @ cam.K, cam.R, cam.t, (round(w * aspect), h))
+    fit = fit_table(dots_of(squashed, 0.3), squashed.image_size, SPEC)
+    corners = squashed.project_table(SPEC.corners, 0.0)
+    assert np.abs(fit.corners_px - corners).max() < 3.0
+    fitted_aspect = fit.camera.K[0, 0] / fit.camera.K[1, 1]
+    assert fitted_aspect == 1.0 or fitted_aspect == pytest.approx(aspect, rel=1e-6)
+    if aspect == 0.5625:
+        assert fitted_aspect == pytest.approx(aspect)
+
+
+def test_photo_with_square_pixels_keeps_square_pixels():
+    cam = VIEWS[sorted(VIEWS)[0]]
+    fit = fit_table(dots_of(cam, 0.5), cam.image_size, SPEC)
+    assert fit.camera.K[0, 0] == fit.camera.K[1, 1]

@@ -161,6 +161,13 @@ class Suggestion:
         return self.layout.spec
 
     @property
+    def pixel_aspect(self) -> float:
+        """Width over height of one pixel as the table fit found it: 1 for a photo as taken, 0.5625 for a 16:9
+        frame stretched to a square."""
+        K = getattr(self.camera, "K", None)
+        return 1.0 if K is None else float(K[0, 0] / K[1, 1])
+
+    @property
     def text(self) -> str:
         """One-line description of the shot."""
         return self.shot.describe(self.balls)
@@ -177,6 +184,7 @@ class Suggestion:
                 "homography": [[float(v) for v in row] for row in self.homography],
                 "diamond_height_m": None if self.diamond_height_m is None else round(float(self.diamond_height_m), 5),
                 "diamond_height_measured": bool(self.diamond_height_measured),
+                "pixel_aspect": round(self.pixel_aspect, 4),
             },
             "balls": [b.to_dict() for b in self.balls],
             "suggestion": self.shot.to_dict(),

@@ -43,6 +43,8 @@ RAIL_DIAMONDS: tuple[tuple[int, ...], ...] = ((0, 1, 2, 3, 4, 5), (6, 7, 8), (9,
 """Diamond indices of each rail in ``TableSpec.diamonds`` order: bottom, foot, top, head."""
 
 MIN_DOTS = 4
+MIN_DOTS_FOR_ASPECT = 10
+"""Matched diamonds a fit with a fitted pixel aspect (a stretched photo) needs; square pixels need ``MIN_DOTS``."""
 MAX_DOTS = 40  # more candidates than this are cut by confidence (false positives)
 MAX_HYPOTHESES = 2000  # rail-assignment hypotheses tried before giving up on better ones
 MIN_SCATTER_DOF = 3  # rail-line residual degrees of freedom needed to judge the reprojection error
@@ -546,11 +548,21 @@ def fit_table(
     h = diamond_height(spec) if diamond_z is None else float(diamond_z)
     fits = []
     first_error: TableFitError | None = None
-    for index in label_candidates(pts, lines, spec):
-        try:
-            fits.append(_fit_labelled(pts, index, spec, image_size, tol, h, focal_prior_px))
-        except TableFitError as err:
-            first_error = first_error or err
+    candidates = label_candidates(pts, lines, spec)
+    # square pixels first; only when no labelling fits, pixels of another aspect (a photo stretched by an
+    # export, e.g. a 16:9 frame squashed to 640x640), so photos that fit with square pixels never change
+    for pixel_aspect in (1.0, None):
+        for index in candidates:
+            try:
+                fit = _fit_labelled(pts, index, spec, image_size, tol, h, focal_prior_px, pixel_aspect)
+            except TableFitError as err:
+                first_error = first_error or err
+                continue
+            # the free aspect is one more way to fit scattered false dots: it needs more of them to agree
+            if pixel_aspect is not None or fit[4] >= MIN_DOTS_FOR_ASPECT:
+                fits.append(fit)
+        if fits:
+            break
     if not fits:
         raise first_error or TableFitError("no table found")
     # near-ties (e.g. an L of dots around one corner: the long and short rail look alike there) are
@@ -579,8 +591,11 @@ def _fit_labelled(
     tol: float,
     h: float,
     focal_prior_px: float | None,
+    pixel_aspect: float | None = 1.0,
 ) -> tuple[PinholeCamera, np.ndarray, np.ndarray, float, int]:
     """Homography, camera and validation for one labelling. Returns (camera, index, corners, rms, n).
+
+    ``pixel_aspect``: the camera's ``fx / fy``, or ``None`` to fit it (needs 6 or more table points).
 
     Raises:
         TableFitError: the labelled dots do not give a plausible table and camera.
@@ -611,6 +626,7 @@ def _fit_labelled(
             world_points=world3_all[keep],
             image_points=image_all[keep],
             focal_prior_px=focal_prior_px,
+            pixel_aspect=pixel_aspect,
         )
         err_all = np.linalg.norm(camera.project(world3_all) - image_all, axis=1)
         err_all = np.where(np.isfinite(err_all), err_all, np.inf)
