@@ -1,9 +1,10 @@
 """Scale-normalised ball crops: centred, the same size whatever the ball size, edges repeated."""
 
+import cv2
 import numpy as np
 import pytest
 
-from pix2pockets.vision.ball_crops import CROP_CONTEXT, CROP_SIZE, ball_diameters, crop_balls
+from pix2pockets.vision.ball_crops import CROP_CONTEXT, CROP_SIZE, ball_diameters, crop_balls, pixel_aspect_of_balls
 
 
 def _disc_image(cx: float, cy: float, r: float, shape=(200, 300)) -> np.ndarray:
@@ -40,3 +41,28 @@ def test_diameters_and_bad_input():
     with pytest.raises(ValueError, match="centres"):
         crop_balls(np.zeros((10, 10, 3), np.uint8), np.zeros((2, 2)), np.ones(3))
     assert crop_balls(np.zeros((10, 10, 3), np.uint8), np.zeros((0, 2)), np.zeros(0)).shape == (0, 32, 32, 3)
+
+
+def test_a_ball_in_a_stretched_photo_comes_out_round():
+    """A 16:9 frame squashed to a square: a ball 20 rows tall is 11 columns wide; the crop undoes that."""
+    aspect = 0.5625
+    img = _disc_image(150, 100, 10.0, shape=(300, 300))
+    squashed = cv2.resize(img, (round(300 * aspect), 300), interpolation=cv2.INTER_AREA)
+    box = np.array([[150 * aspect - 10 * aspect, 90.0, 150 * aspect + 10 * aspect, 110.0]])
+    d = ball_diameters(box, aspect)
+    assert d[0] == pytest.approx(20.0)
+    crop = crop_balls(squashed, np.array([[150 * aspect, 100.0]]), d, aspect=aspect)[0]
+    ys, xs = np.nonzero(crop[..., 0] > 127)
+    assert (xs.max() - xs.min()) == pytest.approx(ys.max() - ys.min(), rel=0.15)
+    plain = crop_balls(squashed, np.array([[150 * aspect, 100.0]]), ball_diameters(box))[0]
+    ys, xs = np.nonzero(plain[..., 0] > 127)
+    assert (ys.max() - ys.min()) > 1.5 * (xs.max() - xs.min())  # without the aspect the ball stays squashed
+
+
+def test_pixel_aspect_of_balls_reads_a_common_stretch_and_ignores_small_or_doubtful_ones():
+    round_boxes = np.array([[0, 0, 10, 10], [20, 0, 31, 10], [40, 0, 49, 10], [60, 0, 66, 10.0]])
+    assert pixel_aspect_of_balls(round_boxes) == 1.0  # median 1.0; the half-hidden ball does not count
+    squashed = round_boxes * np.array([0.5625, 1, 0.5625, 1])
+    assert pixel_aspect_of_balls(squashed) == pytest.approx(0.5625, rel=0.05)
+    assert pixel_aspect_of_balls(squashed[:2]) == 1.0  # too few balls to tell
+    assert pixel_aspect_of_balls(squashed, np.array([0.9, 0.1, 0.1, 0.9])) == 1.0  # too few confident ones

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pix2pockets.vision.ball_crops import CROP_SIZE, ball_diameters, crop_balls
+from pix2pockets.vision.ball_crops import CROP_SIZE, ball_diameters, crop_balls, pixel_aspect_of_balls
 from pix2pockets.vision.classes import BALL_IDS, ONE_PER_TABLE
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.onnx_session import open_crop_model
@@ -52,13 +52,19 @@ class BallClassifier:
         """The classifier shipped with the package."""
         return cls(default_classifier_path(), threads)
 
-    def classify(self, image_rgb: np.ndarray, boxes: np.ndarray) -> np.ndarray:
-        """Probabilities (n, 5) of cue, black, solid, stripe and no ball for xyxy boxes (n, 4) [px]."""
+    def classify(self, image_rgb: np.ndarray, boxes: np.ndarray, aspect: float | None = None) -> np.ndarray:
+        """Probabilities (n, 5) of cue, black, solid, stripe and no ball for xyxy boxes (n, 4) [px].
+
+        ``aspect``: width over height of one pixel; by default read from the boxes
+        (:func:`~pix2pockets.vision.ball_crops.pixel_aspect_of_balls`), so the balls of a photo stretched by an
+        export are cropped round again.
+        """
         boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
         if len(boxes) == 0:
             return np.zeros((0, N_OUTPUTS), dtype=np.float32)
         centres = 0.5 * (boxes[:, :2] + boxes[:, 2:])
-        crops = crop_balls(image_rgb, centres, ball_diameters(boxes))
+        aspect = pixel_aspect_of_balls(boxes) if aspect is None else aspect
+        crops = crop_balls(image_rgb, centres, ball_diameters(boxes, aspect), aspect=aspect)
         return self.session.run(None, {self.input_name: crops})[0]
 
 

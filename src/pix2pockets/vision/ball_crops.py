@@ -15,10 +15,39 @@ CROP_CONTEXT = 1.5
 """Crop side over ball diameter: the ball plus a thin ring of cloth around it."""
 
 
-def ball_diameters(boxes: np.ndarray) -> np.ndarray:
-    """Ball diameters [px] from xyxy boxes (n, 4): the mean of width and height, at least 2 px."""
+def ball_diameters(boxes: np.ndarray, aspect: float = 1.0) -> np.ndarray:
+    """Ball diameters [px] from xyxy boxes (n, 4): the mean of width and height, at least 2 px.
+
+    In a photo stretched to pixels of another aspect (``aspect`` = width over height of one pixel) a ball
+    is ``aspect`` times as wide as tall; the diameter is then counted in rows (width / aspect and height).
+    """
     boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
-    return np.maximum(0.5 * ((boxes[:, 2] - boxes[:, 0]) + (boxes[:, 3] - boxes[:, 1])), 2.0)
+    return np.maximum(0.5 * ((boxes[:, 2] - boxes[:, 0]) / aspect + (boxes[:, 3] - boxes[:, 1])), 2.0)
+
+
+def pixel_aspect_of_balls(
+    boxes: np.ndarray,
+    scores: np.ndarray | None = None,
+    min_score: float = 0.3,
+    min_balls: int = 3,
+    tolerance: float = 1.15,
+) -> float:
+    """Width over height of one pixel, read from ball boxes (n, 4): balls are round, so in a photo stretched
+    by an export (a 16:9 frame squashed to 640x640) their boxes are all stretched alike.
+
+    The median box width over height of the boxes scoring at least ``min_score`` (all boxes without
+    ``scores``); 1 with fewer than ``min_balls`` of them or within ``tolerance`` of 1 (partly hidden balls and
+    the image border cut single boxes).
+    """
+    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
+    w, h = boxes[:, 2] - boxes[:, 0], boxes[:, 3] - boxes[:, 1]
+    ok = (w > 0) & (h > 0)
+    if scores is not None:
+        ok &= np.asarray(scores, dtype=float).reshape(-1) >= min_score
+    if ok.sum() < min_balls:
+        return 1.0
+    aspect = float(np.median(w[ok] / h[ok]))
+    return 1.0 if 1 / tolerance < aspect < tolerance else aspect
 
 
 def crop_windows(centres: np.ndarray, diameters: np.ndarray, context: float = CROP_CONTEXT) -> tuple[np.ndarray, ...]:
@@ -41,25 +70,33 @@ def crop_balls(
     diameters: np.ndarray,
     size: int = CROP_SIZE,
     context: float = CROP_CONTEXT,
+    aspect: float = 1.0,
 ) -> np.ndarray:
     """Crops (n, size, size, 3) uint8 centred on balls, each `context` ball diameters wide.
 
     Args:
         image: RGB uint8 (H, W, 3).
         centres: (n, 2) ball centres x, y [px].
-        diameters: (n,) ball diameters [px].
+        diameters: (n,) ball diameters [px] (rows, in a stretched photo: :func:`ball_diameters`).
         size: crop side [px].
         context: crop side over ball diameter.
+        aspect: width over height of one pixel; a crop is then ``aspect`` times as wide as tall in the photo,
+            so the ball comes out round, as in an unstretched photo.
 
-    Parts of a crop outside the image repeat the nearest edge pixel. Crop windows: :func:`crop_windows`.
+    Parts of a crop outside the image repeat the nearest edge pixel. Crop windows: :func:`crop_windows`
+    (for ``aspect`` 1).
     """
     corners, sides = crop_windows(centres, diameters, context)
+    x_corners, x_sides = corners[:, 0], sides
+    if aspect != 1.0:
+        x_corners, x_sides = crop_windows(centres, np.asarray(diameters, dtype=float) * aspect, context)
+        x_corners = x_corners[:, 0]
     h, w = image.shape[:2]
     out = np.empty((len(sides), size, size, 3), dtype=np.uint8)
-    for i, ((x0, y0), side) in enumerate(zip(corners, sides, strict=True)):
-        xs = np.clip(np.arange(x0, x0 + side), 0, w - 1)
-        ys = np.clip(np.arange(y0, y0 + side), 0, h - 1)
+    for i, (x0, y0, side_x, side_y) in enumerate(zip(x_corners, corners[:, 1], x_sides, sides, strict=True)):
+        xs = np.clip(np.arange(x0, x0 + side_x), 0, w - 1)
+        ys = np.clip(np.arange(y0, y0 + side_y), 0, h - 1)
         region = image[ys[:, None], xs[None, :]]
-        interp = cv2.INTER_AREA if side > size else cv2.INTER_LINEAR
+        interp = cv2.INTER_AREA if min(side_x, side_y) > size else cv2.INTER_LINEAR
         out[i] = cv2.resize(region, (size, size), interpolation=interp)
     return out

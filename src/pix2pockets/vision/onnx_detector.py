@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from pix2pockets.vision.ball_classifier import BallClassifier, classified_balls, default_classifier_path
+from pix2pockets.vision.ball_crops import pixel_aspect_of_balls
 from pix2pockets.vision.classes import BALL_IDS, DOT_ID
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.dot_refiner import DotRefiner, default_dot_refiner_path
@@ -122,7 +123,8 @@ class OnnxDetector:
             balls = decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=BALL_IDS, image_size=size)
         else:
             balls, heat = decode_ball_peaks(out, box, c.conf_threshold, c.max_detections, image_size=size)
-            probs = self.classifier.classify(image_rgb, balls.boxes)
+            aspect = pixel_aspect_of_balls(balls.boxes, balls.confidence)  # 1 unless the photo is stretched
+            probs = self.classifier.classify(image_rgb, balls.boxes, aspect)
             balls = classified_balls(balls, heat, probs, c.conf_threshold)
         dots = decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=(DOT_ID,), image_size=size)
         if self.dot_refiner is not None:
