@@ -6,8 +6,12 @@ Reported per camera kind: fits, clear failures (``TableFitError``, with reasons)
 (corners up to half an image outside the frame) and mean ball error [cm] (scaled to a 9-ft table), with the
 diamond height assumed and measured from the render (:mod:`pix2pockets.vision.rail_height`).
 
+With ``--stretch-to WxH`` each render (and its labels) is resized to WxH before the fit, as an export that
+squashes every photo to one size does (the paper's Roboflow dataset: 640x640); the pixel aspect the fit
+finds is reported too.
+
 Usage:
-    PYTHONPATH=src python benchmarks/rendered_fit.py --n 30 --json OUT.json [--size 960x540]
+    PYTHONPATH=src python benchmarks/rendered_fit.py --n 30 --json OUT.json [--size 960x540] [--stretch-to 640x640]
 """
 
 from __future__ import annotations
@@ -18,6 +22,7 @@ import os
 import sys
 from collections import defaultdict
 
+import cv2
 import numpy as np
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
@@ -25,14 +30,21 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 from pix2pockets.geometry import TableSpec, table_preset
 from pix2pockets.vision.analytic import detections_from_synth_labels
 from pix2pockets.vision.ball_location import locate_balls
+from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.rail_height import refine_fit_height
 from pix2pockets.vision.table_fit import TableFitError, fit_table
 
 
-def _errors(fit, det, lab: dict, spec: TableSpec) -> tuple[float, float | None]:
-    """Corner error [px] (corners within half an image of the frame) and mean ball error [cm, 9-ft scale]."""
-    truth_c = np.array([c["px_cloth"] or [np.nan, np.nan] for c in lab["corners"]], dtype=float)
-    w, h = lab["image_size"]
+def _scaled(det: Detections, scale: np.ndarray) -> Detections:
+    """Detections of a photo resized by ``scale`` (x, y)."""
+    return Detections(det.boxes * np.tile(scale, 2), det.confidence, det.class_id, det.contact * scale)
+
+
+def _errors(fit, det, lab: dict, spec: TableSpec, scale: np.ndarray) -> tuple[float, float | None]:
+    """Corner error [px] (corners within half an image of the frame) and mean ball error [cm, 9-ft scale];
+    ``scale`` (x, y) maps the render's pixels to the fitted photo's."""
+    truth_c = np.array([c["px_cloth"] or [np.nan, np.nan] for c in lab["corners"]], dtype=float) * scale
+    w, h = np.array(lab["image_size"]) * scale
     near = (np.abs(truth_c[:, 0] - w / 2) < w) & (np.abs(truth_c[:, 1] - h / 2) < h)  # within 1/2 image outside
     errs = []
     for r in (0, 2):
@@ -59,9 +71,12 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--n", type=int, default=30)
     parser.add_argument("--seed", type=int, default=1000)
     parser.add_argument("--size", default="960x540")
+    parser.add_argument("--stretch-to", default=None, help="resize each render to WxH before the fit")
     parser.add_argument("--json")
     args = parser.parse_args(argv)
     size = tuple(int(v) for v in args.size.lower().split("x"))
+    out_size = tuple(int(v) for v in args.stretch_to.lower().split("x")) if args.stretch_to else size
+    scale = np.array(out_size, dtype=float) / np.array(size)
     stats: dict[str, dict] = defaultdict(
         lambda: {
             "renders": 0,
@@ -72,6 +87,7 @@ def main(argv: list[str] | None = None) -> int:
             "corner_px_image": [],
             "ball_cm_image": [],
             "measured": 0,
+            "pixel_aspect": [],
         }
     )
     for k in range(args.n):
@@ -81,18 +97,20 @@ def main(argv: list[str] | None = None) -> int:
         s = stats[kind]
         s["renders"] += 1
         spec = table_preset(lab["table"]["name"])
-        det = detections_from_synth_labels(lab)
+        det = _scaled(detections_from_synth_labels(lab), scale)
+        image = rend.image if out_size == size else cv2.resize(rend.image, out_size, interpolation=cv2.INTER_AREA)
         try:
-            fit = fit_table(det, tuple(lab["image_size"]), spec)
+            fit = fit_table(det, out_size, spec)
         except TableFitError as err:
             s["failures"].append(f"{(args.seed, k)}: {err} ({int(det.is_dot.sum())} dots)")
             continue
         s["fits"] += 1
         assumed = fit
-        fit, est = refine_fit_height(rend.image, assumed, det[det.is_ball].boxes)
+        fit, est = refine_fit_height(image, assumed, det[det.is_ball].boxes)
         s["measured"] += est.measured
+        s["pixel_aspect"].append(float(fit.camera.K[0, 0] / fit.camera.K[1, 1]))
         for suffix, f in (("", assumed), ("_image", fit)):
-            corner, ball = _errors(f, det, lab, spec)
+            corner, ball = _errors(f, det, lab, spec, scale)
             s["corner_px" + suffix].append(corner)
             if ball is not None:
                 s["ball_cm" + suffix].append(ball)
@@ -107,7 +125,7 @@ def main(argv: list[str] | None = None) -> int:
 
     print(
         f"{'camera':<10} {'renders':>7} {'fits':>5} {'measured':>8} {'corner px':>10} {'(measured)':>10} "
-        f"{'ball cm':>8} {'(measured)':>10}"
+        f"{'ball cm':>8} {'(measured)':>10} {'aspect':>7}"
     )
     for kind, s in sorted(stats.items()):
         out[kind] = {
@@ -118,6 +136,7 @@ def main(argv: list[str] | None = None) -> int:
             "corner_px_median_measured_height": med(s["corner_px_image"]),
             "ball_cm_mean": mean(s["ball_cm"]),
             "ball_cm_mean_measured_height": mean(s["ball_cm_image"]),
+            "pixel_aspect_median": med(s["pixel_aspect"]),
             "failures": s["failures"],
         }
         o = out[kind]
@@ -125,13 +144,18 @@ def main(argv: list[str] | None = None) -> int:
         print(
             f"{kind:<10} {o['renders']:7d} {o['fits']:5d} {o['height_measured']:8d} "
             f"{o['corner_px_median'] or nan:10.2f} {o['corner_px_median_measured_height'] or nan:10.2f} "
-            f"{o['ball_cm_mean'] or nan:8.3f} {o['ball_cm_mean_measured_height'] or nan:10.3f}"
+            f"{o['ball_cm_mean'] or nan:8.3f} {o['ball_cm_mean_measured_height'] or nan:10.3f} "
+            f"{o['pixel_aspect_median'] or nan:7.3f}"
         )
         for f in s["failures"]:
             print("    fail", f)
     if args.json:
         with open(args.json, "w") as fh:
-            json.dump({"n": args.n, "seed": args.seed, "size": list(size), "per_camera": out}, fh, indent=2)
+            json.dump(
+                {"n": args.n, "seed": args.seed, "size": list(size), "fitted_size": list(out_size), "per_camera": out},
+                fh,
+                indent=2,
+            )
     return 0
 
 

@@ -4,7 +4,7 @@ import cv2
 import numpy as np
 import pytest
 
-from pix2pockets.vision.ball_crops import CROP_CONTEXT, CROP_SIZE, ball_diameters, crop_balls, pixel_aspect_of_balls
+from pix2pockets.vision.ball_crops import CROP_CONTEXT, CROP_SIZE, ball_diameters, crop_balls
 
 
 def _disc_image(cx: float, cy: float, r: float, shape=(200, 300)) -> np.ndarray:
@@ -57,12 +57,3 @@ def test_a_ball_in_a_stretched_photo_comes_out_round():
     plain = crop_balls(squashed, np.array([[150 * aspect, 100.0]]), ball_diameters(box))[0]
     ys, xs = np.nonzero(plain[..., 0] > 127)
     assert (ys.max() - ys.min()) > 1.5 * (xs.max() - xs.min())  # without the aspect the ball stays squashed
-
-
-def test_pixel_aspect_of_balls_reads_a_common_stretch_and_ignores_small_or_doubtful_ones():
-    round_boxes = np.array([[0, 0, 10, 10], [20, 0, 31, 10], [40, 0, 49, 10], [60, 0, 66, 10.0]])
-    assert pixel_aspect_of_balls(round_boxes) == 1.0  # median 1.0; the half-hidden ball does not count
-    squashed = round_boxes * np.array([0.5625, 1, 0.5625, 1])
-    assert pixel_aspect_of_balls(squashed) == pytest.approx(0.5625, rel=0.05)
-    assert pixel_aspect_of_balls(squashed[:2]) == 1.0  # too few balls to tell
-    assert pixel_aspect_of_balls(squashed, np.array([0.9, 0.1, 0.1, 0.9])) == 1.0  # too few confident ones

@@ -181,3 +181,21 @@ def test_photo_with_square_pixels_keeps_square_pixels():
     cam = VIEWS[sorted(VIEWS)[0]]
     fit = fit_table(dots_of(cam, 0.5), cam.image_size, SPEC)
     assert fit.camera.K[0, 0] == fit.camera.K[1, 1]
+
+
+@pytest.mark.parametrize("view", sorted(VIEWS))
+def test_stretched_balls_tell_the_fit_the_pixel_aspect(view):
+    """Ball boxes 0.5625 times as wide as tall: the fit uses that aspect first, even where a tilted
+    square-pixel camera would pass the checks."""
+    from pix2pockets.state import random_layout
+    from pix2pockets.vision.analytic import analytic_detections
+
+    cam = VIEWS[view]
+    w, h = cam.image_size
+    squashed = PinholeCamera(np.diag([0.5625, 1.0, 1.0]) @ cam.K, cam.R, cam.t, (round(w * 0.5625), h))
+    det = analytic_detections(
+        squashed, random_layout(np.random.default_rng(2), list(range(10)), SPEC), dot_noise_px=0.3
+    )
+    fit = fit_table(det, squashed.image_size, SPEC)
+    assert fit.camera.K[0, 0] / fit.camera.K[1, 1] == pytest.approx(0.5625)
+    assert np.abs(fit.corners_px - squashed.project_table(SPEC.corners, 0.0)).max() < 3.0

@@ -12,10 +12,11 @@ from pathlib import Path
 
 import numpy as np
 
-from pix2pockets.vision.ball_crops import CROP_SIZE, ball_diameters, crop_balls, pixel_aspect_of_balls
+from pix2pockets.vision.ball_crops import CROP_SIZE, ball_diameters, crop_balls
 from pix2pockets.vision.classes import BALL_IDS, ONE_PER_TABLE
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.onnx_session import open_crop_model
+from pix2pockets.vision.pixel_aspect import pixel_aspect_of_balls
 from pix2pockets.vision.postprocess import at_most_one_posterior
 
 DEFAULT_CLASSIFIER = "ball-classifier.onnx"

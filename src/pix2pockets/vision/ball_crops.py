@@ -25,31 +25,6 @@ def ball_diameters(boxes: np.ndarray, aspect: float = 1.0) -> np.ndarray:
     return np.maximum(0.5 * ((boxes[:, 2] - boxes[:, 0]) / aspect + (boxes[:, 3] - boxes[:, 1])), 2.0)
 
 
-def pixel_aspect_of_balls(
-    boxes: np.ndarray,
-    scores: np.ndarray | None = None,
-    min_score: float = 0.3,
-    min_balls: int = 3,
-    tolerance: float = 1.15,
-) -> float:
-    """Width over height of one pixel, read from ball boxes (n, 4): balls are round, so in a photo stretched
-    by an export (a 16:9 frame squashed to 640x640) their boxes are all stretched alike.
-
-    The median box width over height of the boxes scoring at least ``min_score`` (all boxes without
-    ``scores``); 1 with fewer than ``min_balls`` of them or within ``tolerance`` of 1 (partly hidden balls and
-    the image border cut single boxes).
-    """
-    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
-    w, h = boxes[:, 2] - boxes[:, 0], boxes[:, 3] - boxes[:, 1]
-    ok = (w > 0) & (h > 0)
-    if scores is not None:
-        ok &= np.asarray(scores, dtype=float).reshape(-1) >= min_score
-    if ok.sum() < min_balls:
-        return 1.0
-    aspect = float(np.median(w[ok] / h[ok]))
-    return 1.0 if 1 / tolerance < aspect < tolerance else aspect
-
-
 def crop_windows(centres: np.ndarray, diameters: np.ndarray, context: float = CROP_CONTEXT) -> tuple[np.ndarray, ...]:
     """Integer crop windows: top-left corners (n, 2) and sides (n,) [px], `context` diameters wide.
 

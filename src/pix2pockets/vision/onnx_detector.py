@@ -14,7 +14,6 @@ from pathlib import Path
 import numpy as np
 
 from pix2pockets.vision.ball_classifier import BallClassifier, classified_balls, default_classifier_path
-from pix2pockets.vision.ball_crops import pixel_aspect_of_balls
 from pix2pockets.vision.classes import BALL_IDS, DOT_ID
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.dot_refiner import DotRefiner, default_dot_refiner_path
@@ -22,6 +21,7 @@ from pix2pockets.vision.heatmap_decode import decode_ball_peaks, decode_peaks
 from pix2pockets.vision.heatmap_layout import INPUT_MULTIPLE
 from pix2pockets.vision.letterbox import network_input
 from pix2pockets.vision.onnx_session import open_session
+from pix2pockets.vision.pixel_aspect import pixel_aspect_of_balls
 
 DEFAULT_MODEL = "detector.onnx"
 NETWORK_MULTIPLE = 32

@@ -38,6 +38,7 @@ from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.homography import apply_homography, camera_from_homography, fit_homography
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.vision.detections import Detections
+from pix2pockets.vision.pixel_aspect import pixel_aspect_of_balls, snapped_aspect
 
 RAIL_DIAMONDS: tuple[tuple[int, ...], ...] = ((0, 1, 2, 3, 4, 5), (6, 7, 8), (9, 10, 11, 12, 13, 14), (15, 16, 17))
 """Diamond indices of each rail in ``TableSpec.diamonds`` order: bottom, foot, top, head."""
@@ -515,13 +516,21 @@ def fit_table(
         focal_prior_px: prior focal length [px] for near-top views (default: the larger image side).
         diamond_z: height of the diamond centres above the cloth [m] (default :func:`diamond_height`).
 
+    Photos stretched by an export (a 16:9 frame squashed to 640x640) are fitted with the pixel aspect their
+    ball boxes show (:mod:`pix2pockets.vision.pixel_aspect`), else, when square pixels fit no labelling,
+    with one of the usual export stretches (:func:`~pix2pockets.geometry.homography.camera_from_homography`);
+    a fit with a free aspect needs :data:`MIN_DOTS_FOR_ASPECT` matched diamonds.
+
     Raises:
         TableFitError: too few dots, no consistent rails, or an implausible table.
     """
     spec = spec or TableSpec()
     ball_centres = np.zeros((0, 2))
+    ball_aspect = 1.0
     if isinstance(dots, Detections):
-        ball_centres = dots[dots.is_ball].centres
+        balls = dots[dots.is_ball]
+        ball_centres = balls.centres
+        ball_aspect = snapped_aspect(pixel_aspect_of_balls(balls.boxes, balls.own_score))
         d = dots[dots.is_dot]
         order = np.argsort(-d.confidence)
         pts = d.centres[order][:MAX_DOTS]
@@ -549,9 +558,12 @@ def fit_table(
     fits = []
     first_error: TableFitError | None = None
     candidates = label_candidates(pts, lines, spec)
-    # square pixels first; only when no labelling fits, pixels of another aspect (a photo stretched by an
-    # export, e.g. a 16:9 frame squashed to 640x640), so photos that fit with square pixels never change
-    for pixel_aspect in (1.0, None):
+    # Square pixels first; only when no labelling fits, pixels of another aspect (a photo stretched by an
+    # export, e.g. a 16:9 frame squashed to 640x640), so photos that fit with square pixels never change.
+    # When the balls' boxes say the photo is stretched, that aspect goes first: a square-pixel camera
+    # tilted the wrong way can still pass the checks on a stretched photo.
+    stages: tuple[float | None, ...] = (1.0, None) if ball_aspect == 1.0 else (ball_aspect, 1.0, None)
+    for pixel_aspect in stages:
         for index in candidates:
             try:
                 fit = _fit_labelled(pts, index, spec, image_size, tol, h, focal_prior_px, pixel_aspect)
