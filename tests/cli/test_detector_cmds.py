@@ -242,3 +242,24 @@ def test_table_class_needs_agnostic_mode(toy, tmp_path, capsys):
     args = ["evaluate", "detector", "--data", str(toy), "--detector", "hough", "--table-class", "1"]
     assert main([*args, "--json", str(tmp_path / "r.json"), "--quiet"]) != 0
     assert "--agnostic" in capsys.readouterr().err
+
+
+def test_train_detector_stretch_options(toy, tmp_path, capsys):
+    pytest.importorskip("torch")
+    args = ["train-detector", "--data", str(toy), "--out", str(tmp_path / "r"), "--no-pretrained", "--quiet"]
+    assert main([*args, "--stretch", "0.5"]) == 2
+    assert "--stretch needs two" in capsys.readouterr().err
+    assert main([*args, "--stretch", "2,0.5", "--stretch-fraction", "0.5"]) == 2
+    assert "stretch range" in capsys.readouterr().err
+    assert not (tmp_path / "r").exists()
+
+
+def test_train_detector_records_the_stretch_settings(toy, tmp_path):
+    pytest.importorskip("torch")
+    pytest.importorskip("onnx", reason="ONNX export needs the onnx package (train extra)")
+    out = tmp_path / "run"
+    args = ["train-detector", "--data", str(toy), "--out", str(out), "--epochs", "1", "--batch", "2", "--crop", "64"]
+    args += ["--no-pretrained", "--quiet", "--stretch", "0.5,0.6", "--stretch-fraction", "1"]
+    assert main(args) == 0
+    augment = json.loads((out / "detector.json").read_text())["config"]["augment"]
+    assert augment["stretch_range"] == [0.5, 0.6] and augment["stretch_fraction"] == 1.0 and augment["crop"] == 64
