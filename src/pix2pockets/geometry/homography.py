@@ -157,11 +157,6 @@ def _rotation_vector(R: np.ndarray) -> np.ndarray:
     return w * theta
 
 
-EXPORT_ASPECTS = (1.0, 0.5625, 0.75, 4 / 3, 16 / 9)
-"""Pixel aspect ratios (fx / fy) a photo is tried with when its aspect is not known: square pixels, and photos
-of 16:9 or 4:3 (landscape or portrait) stretched to a square by an export such as Roboflow's 640x640."""
-
-
 def camera_from_homography(
     H: np.ndarray,
     image_size: tuple[int, int],
@@ -170,7 +165,6 @@ def camera_from_homography(
     image_points: np.ndarray | None = None,
     focal_prior_px: float | None = None,
     focal_prior_sigma: float = 0.7,
-    pixel_aspect: float | None = 1.0,
 ) -> PinholeCamera:
     """Recover a :class:`PinholeCamera` from the homography of the plane at height ``z`` [m].
 
@@ -186,69 +180,9 @@ def camera_from_homography(
         z: height of the plane [m].
         world_points: (n, 3) table points [m] for refinement (optional).
         image_points: (n, 2) their pixels.
-        focal_prior_px: prior focal length [px] (of the vertical axis when pixels are not square).
+        focal_prior_px: prior focal length [px].
         focal_prior_sigma: standard deviation of log focal length in the prior.
-        pixel_aspect: ``fx / fy`` of the image's pixels: 1 for a photo as the camera took it, 0.5625 for a
-            16:9 frame stretched to a square. ``None`` picks it from :data:`EXPORT_ASPECTS` by the
-            reprojection error (1 px noise) plus the focal prior of each aspect's unstretched photo: views of
-            the table plane from a level camera cannot tell a stretched photo from another focal length and
-            tilt, so the prior and the usual export sizes decide. Needs 6 or more point correspondences; with
-            fewer, pixels are taken as square.
     """
-    if pixel_aspect is not None or world_points is None or image_points is None or len(world_points) < 6:
-        aspect = 1.0 if pixel_aspect is None else float(pixel_aspect)
-        return _camera_with_aspect(
-            H, image_size, z, world_points, image_points, focal_prior_px, focal_prior_sigma, aspect
-        )
-    X = np.asarray(world_points, dtype=float)
-    uv = np.asarray(image_points, dtype=float)
-    w, h = image_size
-
-    def cost(aspect: float, cam: PinholeCamera) -> float:
-        # reprojection error with 1 px noise plus the focal prior of that aspect's unstretched photo
-        f0 = focal_prior_px or DEFAULT_FOCAL_FACTOR * max(w / aspect, h)
-        prior = math.log(cam.K[1, 1] / f0) / focal_prior_sigma
-        err = cam.project(X) - uv
-        return float(np.sum(np.where(np.isfinite(err), err, 1e6) ** 2) + prior**2)
-
-    fits = [
-        (a, _camera_with_aspect(H, image_size, z, X, uv, focal_prior_px, focal_prior_sigma, a)) for a in EXPORT_ASPECTS
-    ]
-    return min(fits, key=lambda fit: cost(*fit))[1]
-
-
-def _camera_with_aspect(
-    H: np.ndarray,
-    image_size: tuple[int, int],
-    z: float,
-    world_points: np.ndarray | None,
-    image_points: np.ndarray | None,
-    focal_prior_px: float | None,
-    focal_prior_sigma: float,
-    aspect: float,
-) -> PinholeCamera:
-    """:func:`camera_from_homography` for a known pixel aspect: the square-pixel fit in the image with its
-    x axis divided by ``aspect``, then ``K`` scaled back."""
-    if aspect == 1.0:
-        return _square_pixel_camera(H, image_size, z, world_points, image_points, focal_prior_px, focal_prior_sigma)
-    w, h = image_size
-    unstretch = np.diag([1.0 / aspect, 1.0, 1.0])
-    pts = None if image_points is None else np.asarray(image_points, dtype=float) / np.array([aspect, 1.0])
-    cam = _square_pixel_camera(unstretch @ H, (w / aspect, h), z, world_points, pts, focal_prior_px, focal_prior_sigma)
-    K = np.diag([aspect, 1.0, 1.0]) @ cam.K
-    return PinholeCamera(K, cam.R, cam.t, (int(w), int(h)))
-
-
-def _square_pixel_camera(
-    H: np.ndarray,
-    image_size: tuple[float, float],
-    z: float,
-    world_points: np.ndarray | None,
-    image_points: np.ndarray | None,
-    focal_prior_px: float | None,
-    focal_prior_sigma: float,
-) -> PinholeCamera:
-    """The square-pixel camera of :func:`camera_from_homography`."""
     w, h = image_size
     f0 = focal_prior_px or DEFAULT_FOCAL_FACTOR * max(w, h)
     f = focal_from_homography(H, image_size) or f0
@@ -260,9 +194,8 @@ def _square_pixel_camera(
 
     ref = None if world_points is None or len(world_points) == 0 else np.asarray(world_points)[:, :2].mean(axis=0)
     R, t = pose_from_homography(H, intrinsics(f), z, ref)
-    size = (round(w), round(h))
     if world_points is None or image_points is None or len(world_points) < 4:
-        return PinholeCamera(intrinsics(f), R, t, size)
+        return PinholeCamera(intrinsics(f), R, t, (int(w), int(h)))
     X = np.asarray(world_points, dtype=float)
     uv = np.asarray(image_points, dtype=float)
 
@@ -287,12 +220,12 @@ def _square_pixel_camera(
         if np.all(np.isfinite(sol.x)) and (best is None or sol.cost < best.cost):
             best = sol
     if best is None:
-        return PinholeCamera(intrinsics(f), R, t, size)
+        return PinholeCamera(intrinsics(f), R, t, (int(w), int(h)))
     fk = math.exp(best.x[0])
     Rk = _rodrigues(best.x[1:4])
     # re-orthonormalise against round-off
     U, _, Vt = np.linalg.svd(Rk)
-    return PinholeCamera(intrinsics(fk), U @ Vt, best.x[4:7].copy(), size)
+    return PinholeCamera(intrinsics(fk), U @ Vt, best.x[4:7].copy(), (int(w), int(h)))
 
 
 def camera_tilt(camera: PinholeCamera) -> float:

@@ -9,8 +9,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from pix2pockets.geometry.homography import EXPORT_ASPECTS
-
+EXPORT_ASPECTS = (1.0, 0.5625, 0.75, 4 / 3, 16 / 9)
+"""Pixel aspect ratios (width over height of one pixel) of the usual exports: square pixels, and photos of
+16:9 or 4:3 (landscape or portrait) stretched to a square, as Roboflow's 640x640."""
 SNAP_TOLERANCE = 1.08
 """A measured aspect within this factor of one of :data:`EXPORT_ASPECTS` is taken as that one."""
 

@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import cv2
 import numpy as np
@@ -38,14 +38,14 @@ from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.homography import apply_homography, camera_from_homography, fit_homography
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.vision.detections import Detections
-from pix2pockets.vision.pixel_aspect import pixel_aspect_of_balls, snapped_aspect
+from pix2pockets.vision.pixel_aspect import EXPORT_ASPECTS, pixel_aspect_of_balls, snapped_aspect
 
 RAIL_DIAMONDS: tuple[tuple[int, ...], ...] = ((0, 1, 2, 3, 4, 5), (6, 7, 8), (9, 10, 11, 12, 13, 14), (15, 16, 17))
 """Diamond indices of each rail in ``TableSpec.diamonds`` order: bottom, foot, top, head."""
 
 MIN_DOTS = 4
 MIN_DOTS_FOR_ASPECT = 10
-"""Matched diamonds a fit with a fitted pixel aspect (a stretched photo) needs; square pixels need ``MIN_DOTS``."""
+"""Matched diamonds a fit with a guessed export stretch (one the balls do not show) needs; else ``MIN_DOTS``."""
 MAX_DOTS = 40  # more candidates than this are cut by confidence (false positives)
 MAX_HYPOTHESES = 2000  # rail-assignment hypotheses tried before giving up on better ones
 MIN_SCATTER_DOF = 3  # rail-line residual degrees of freedom needed to judge the reprojection error
@@ -518,8 +518,8 @@ def fit_table(
 
     Photos stretched by an export (a 16:9 frame squashed to 640x640) are fitted with the pixel aspect their
     ball boxes show (:mod:`pix2pockets.vision.pixel_aspect`), else, when square pixels fit no labelling,
-    with one of the usual export stretches (:func:`~pix2pockets.geometry.homography.camera_from_homography`);
-    a fit with a free aspect needs :data:`MIN_DOTS_FOR_ASPECT` matched diamonds.
+    with one of the usual export stretches (:data:`~pix2pockets.vision.pixel_aspect.EXPORT_ASPECTS`), which
+    then needs :data:`MIN_DOTS_FOR_ASPECT` matched diamonds. The camera's ``K`` holds the aspect.
 
     Raises:
         TableFitError: too few dots, no consistent rails, or an implausible table.
@@ -547,6 +547,72 @@ def fit_table(
             f"too few table points: {len(pts)} diamonds detected, need at least {MIN_DOTS} on two rails "
             "(show more of the table: two rails with their sights, not hidden by players or the frame edge)"
         )
+    h = diamond_height(spec) if diamond_z is None else float(diamond_z)
+    # A stretched photo is fitted as the photo before the stretch (x divided by the pixel aspect), then the
+    # camera is stretched back. The aspect the balls show goes first (a square-pixel camera tilted the wrong
+    # way can pass the checks on a stretched photo), then square pixels, then the other usual export
+    # stretches, which must explain more dots (a free aspect is one more way to fit scattered false dots).
+    guessed = [a for a in EXPORT_ASPECTS if a not in (1.0, ball_aspect)]
+    first_error: TableFitError | None = None
+    guesses = []
+    for aspect in [*dict.fromkeys([ball_aspect, 1.0]), *guessed]:
+        unstretch = np.array([aspect, 1.0])
+        try:
+            fit = _fit_square_pixels(
+                pts / unstretch,
+                (image_size[0] / aspect, image_size[1]),
+                ball_centres / unstretch,
+                spec,
+                tol_px,
+                focal_prior_px,
+                h,
+            )
+        except TableFitError as err:
+            first_error = first_error or err
+            continue
+        fit = _stretched(fit, aspect, image_size)
+        if aspect not in guessed:
+            return _full_index(fit, back, n_total)
+        if fit.n_matched >= MIN_DOTS_FOR_ASPECT:
+            guesses.append((aspect, fit))
+    if not guesses:
+        raise first_error or TableFitError("no table found")
+
+    # the best explained guess; ties go to the focal length nearer the prior of its unstretched photo
+    def rank(guess: tuple[float, TableFit]) -> tuple[int, float]:
+        aspect, fit = guess
+        f0 = focal_prior_px or max(image_size[0] / aspect, image_size[1])
+        return (fit.n_matched, -(fit.n_matched * fit.rms_px**2 + (math.log(fit.camera.K[1, 1] / f0) / 0.7) ** 2))
+
+    return _full_index(max(guesses, key=rank)[1], back, n_total)
+
+
+def _full_index(fit: TableFit, back: np.ndarray, n_total: int) -> TableFit:
+    """``fit`` with its dot index over all ``n_total`` dots (the fit saw those at ``back``)."""
+    index = np.full(n_total, -1)
+    index[back] = fit.dot_index
+    return replace(fit, dot_index=index)
+
+
+def _stretched(fit: TableFit, aspect: float, image_size: tuple[int, int]) -> TableFit:
+    """A fit made on a photo with its x axis divided by ``aspect``, for the photo itself (``image_size``)."""
+    if aspect == 1.0:
+        return fit
+    cam = fit.camera
+    camera = PinholeCamera(np.diag([aspect, 1.0, 1.0]) @ cam.K, cam.R, cam.t, (int(image_size[0]), int(image_size[1])))
+    return replace(fit, camera=camera, diamond_corners_px=fit.diamond_corners_px * np.array([aspect, 1.0]))
+
+
+def _fit_square_pixels(
+    pts: np.ndarray,
+    image_size: tuple[float, float],
+    ball_centres: np.ndarray,
+    spec: TableSpec,
+    tol_px: float | None,
+    focal_prior_px: float | None,
+    h: float,
+) -> TableFit:
+    """:func:`fit_table` for a photo with square pixels; ``dot_index`` is over ``pts``."""
     tol = tol_px if tol_px is not None else _tolerance_px(pts, image_size)
     lines = fit_rail_lines(pts, tol)
     if sum(len(x) >= 2 for x in lines) < 2:
@@ -554,27 +620,13 @@ def fit_table(
             f"too few table points: the {len(pts)} diamonds found lie on one rail; diamonds on at least two "
             "rails are needed"
         )
-    h = diamond_height(spec) if diamond_z is None else float(diamond_z)
     fits = []
     first_error: TableFitError | None = None
-    candidates = label_candidates(pts, lines, spec)
-    # Square pixels first; only when no labelling fits, pixels of another aspect (a photo stretched by an
-    # export, e.g. a 16:9 frame squashed to 640x640), so photos that fit with square pixels never change.
-    # When the balls' boxes say the photo is stretched, that aspect goes first: a square-pixel camera
-    # tilted the wrong way can still pass the checks on a stretched photo.
-    stages: tuple[float | None, ...] = (1.0, None) if ball_aspect == 1.0 else (ball_aspect, 1.0, None)
-    for pixel_aspect in stages:
-        for index in candidates:
-            try:
-                fit = _fit_labelled(pts, index, spec, image_size, tol, h, focal_prior_px, pixel_aspect)
-            except TableFitError as err:
-                first_error = first_error or err
-                continue
-            # the free aspect is one more way to fit scattered false dots: it needs more of them to agree
-            if pixel_aspect is not None or fit[4] >= MIN_DOTS_FOR_ASPECT:
-                fits.append(fit)
-        if fits:
-            break
+    for index in label_candidates(pts, lines, spec):
+        try:
+            fits.append(_fit_labelled(pts, index, spec, image_size, tol, h, focal_prior_px))
+        except TableFitError as err:
+            first_error = first_error or err
     if not fits:
         raise first_error or TableFitError("no table found")
     # near-ties (e.g. an L of dots around one corner: the long and short rail look alike there) are
@@ -589,10 +641,7 @@ def fit_table(
     metric = (head_mid[0] - foot_mid[0]) - (head_mid[1] - foot_mid[1])
     if metric > 0:
         camera, index, corners = _rotate_half_turn(camera, index, corners, spec)
-
-    dot_index_full = np.full(n_total, -1)
-    dot_index_full[back] = index
-    return TableFit(spec, camera, dot_index_full, corners, rms, n_matched, h)
+    return TableFit(spec, camera, index, corners, rms, n_matched, h)
 
 
 def _fit_labelled(
@@ -603,11 +652,8 @@ def _fit_labelled(
     tol: float,
     h: float,
     focal_prior_px: float | None,
-    pixel_aspect: float | None = 1.0,
 ) -> tuple[PinholeCamera, np.ndarray, np.ndarray, float, int]:
     """Homography, camera and validation for one labelling. Returns (camera, index, corners, rms, n).
-
-    ``pixel_aspect``: the camera's ``fx / fy``, or ``None`` to fit it (needs 6 or more table points).
 
     Raises:
         TableFitError: the labelled dots do not give a plausible table and camera.
@@ -638,7 +684,6 @@ def _fit_labelled(
             world_points=world3_all[keep],
             image_points=image_all[keep],
             focal_prior_px=focal_prior_px,
-            pixel_aspect=pixel_aspect,
         )
         err_all = np.linalg.norm(camera.project(world3_all) - image_all, axis=1)
         err_all = np.where(np.isfinite(err_all), err_all, np.inf)
