@@ -199,3 +199,12 @@ def test_stretched_balls_tell_the_fit_the_pixel_aspect(view):
     fit = fit_table(det, squashed.image_size, SPEC)
     assert fit.camera.K[0, 0] / fit.camera.K[1, 1] == pytest.approx(0.5625)
     assert np.abs(fit.corners_px - squashed.project_table(SPEC.corners, 0.0)).max() < 3.0
+
+
+def test_a_given_pixel_aspect_goes_first():
+    cam = VIEWS["45"]
+    w, h = cam.image_size
+    squashed = PinholeCamera(np.diag([0.5625, 1.0, 1.0]) @ cam.K, cam.R, cam.t, (round(w * 0.5625), h))
+    fit = fit_table(dots_of(squashed, 0.3), squashed.image_size, SPEC, pixel_aspect=0.57)  # snapped to 0.5625
+    assert fit.camera.K[0, 0] / fit.camera.K[1, 1] == pytest.approx(0.5625)
+    assert np.abs(fit.corners_px - squashed.project_table(SPEC.corners, 0.0)).max() < 3.0

@@ -21,7 +21,7 @@ from pix2pockets.vision.heatmap_decode import decode_ball_peaks, decode_peaks
 from pix2pockets.vision.heatmap_layout import INPUT_MULTIPLE
 from pix2pockets.vision.letterbox import network_input
 from pix2pockets.vision.onnx_session import open_session
-from pix2pockets.vision.pixel_aspect import pixel_aspect_of_balls
+from pix2pockets.vision.pixel_aspect import pixel_aspect_of_photo
 
 DEFAULT_MODEL = "detector.onnx"
 NETWORK_MULTIPLE = 32
@@ -123,7 +123,7 @@ class OnnxDetector:
             balls = decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=BALL_IDS, image_size=size)
         else:
             balls, heat = decode_ball_peaks(out, box, c.conf_threshold, c.max_detections, image_size=size)
-            aspect = pixel_aspect_of_balls(balls.boxes, balls.confidence)  # 1 unless the photo is stretched
+            aspect = pixel_aspect_of_photo(image_rgb, balls.boxes, balls.confidence)  # 1 unless stretched
             probs = self.classifier.classify(image_rgb, balls.boxes, aspect)
             balls = classified_balls(balls, heat, probs, c.conf_threshold)
         dots = decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=(DOT_ID,), image_size=size)

@@ -7,6 +7,7 @@ so their boxes are all stretched alike.
 
 from __future__ import annotations
 
+import cv2
 import numpy as np
 
 EXPORT_ASPECTS = (1.0, 0.5625, 0.75, 4 / 3, 16 / 9)
@@ -45,3 +46,68 @@ def snapped_aspect(aspect: float, tolerance: float = SNAP_TOLERANCE) -> float:
     """``aspect``, or the export aspect (:data:`EXPORT_ASPECTS`) within ``tolerance`` of it."""
     nearest = min(EXPORT_ASPECTS, key=lambda a: abs(np.log(a / aspect)))
     return float(nearest) if abs(np.log(nearest / aspect)) <= np.log(tolerance) else float(aspect)
+
+
+def ball_outline_aspect(image: np.ndarray, box: np.ndarray) -> float:
+    """Width over height of one ball's outline in an RGB photo, from its xyxy box [px]; NaN when it cannot be
+    measured (near the border, touching another ball, as dull as the cloth).
+
+    The crop around the box centre (2.4 box sides) is compared with the cloth colour (the median of its border
+    pixels); the connected region of clearly different pixels at the centre is the ball, and the aspect is
+    the ratio of its standard deviations along x and y (exact for an ellipse).
+    """
+    x0, y0, x1, y1 = np.asarray(box, dtype=float)
+    half = 1.2 * max(x1 - x0, y1 - y0)
+    cx, cy = (x0 + x1) / 2, (y0 + y1) / 2
+    left, right = round(cx - half), round(cx + half)
+    top, bottom = round(cy - half), round(cy + half)
+    height, width = image.shape[:2]
+    if left < 0 or top < 0 or right > width or bottom > height or right - left < 8:
+        return float("nan")
+    crop = image[top:bottom, left:right].astype(np.float32)
+    border = np.concatenate([crop[0], crop[-1], crop[:, 0], crop[:, -1]])
+    cloth = np.median(border, axis=0)
+    diff = np.linalg.norm(crop - cloth, axis=2)
+    threshold = max(1.5 * np.percentile(np.linalg.norm(border - cloth, axis=1), 90), 0.35 * diff.max())
+    _, labels = cv2.connectedComponents((diff > threshold).astype(np.uint8))
+    ball = labels[labels.shape[0] // 2, labels.shape[1] // 2]
+    if ball == 0:
+        return float("nan")
+    ys, xs = np.nonzero(labels == ball)
+    touches_border = (
+        xs.min() == 0 or ys.min() == 0 or xs.max() == labels.shape[1] - 1 or ys.max() == labels.shape[0] - 1
+    )
+    if len(xs) < 12 or touches_border:
+        return float("nan")
+    return float(np.sqrt(xs.var() / ys.var()))
+
+
+def pixel_aspect_of_photo(
+    image: np.ndarray,
+    boxes: np.ndarray,
+    scores: np.ndarray,
+    min_score: float = 0.3,
+    max_balls: int = 12,
+    min_balls: int = 3,
+) -> float:
+    """Width over height of one pixel of an RGB photo with ball boxes (n, 4) and scores (n,).
+
+    From the boxes (:func:`pixel_aspect_of_balls`) when they show a stretch. Otherwise, for a square photo
+    (the shape exports squash to), from the outlines of up to ``max_balls`` confident balls
+    (:func:`ball_outline_aspect`, median of at least ``min_balls``), snapped to the nearest of the usual export
+    stretches (:data:`EXPORT_ASPECTS`); else 1. A detector can keep predicting round boxes on a squashed photo.
+    """
+    aspect = pixel_aspect_of_balls(boxes, scores, min_score)
+    height, width = image.shape[:2]
+    if aspect != 1.0 or abs(width - height) > 0.01 * max(width, height):
+        return aspect
+    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
+    scores = np.asarray(scores, dtype=float).reshape(-1)
+    best = np.argsort(-scores)[:max_balls]
+    best = best[scores[best] >= min_score]
+    measured = np.array([ball_outline_aspect(image, boxes[i]) for i in best])
+    measured = measured[np.isfinite(measured)]
+    if len(measured) < min_balls:
+        return 1.0
+    median = float(np.median(measured))
+    return float(min(EXPORT_ASPECTS, key=lambda a: abs(np.log(a / median))))

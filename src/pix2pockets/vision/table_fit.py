@@ -505,6 +505,7 @@ def fit_table(
     tol_px: float | None = None,
     focal_prior_px: float | None = None,
     diamond_z: float | None = None,
+    pixel_aspect: float | None = None,
 ) -> TableFit:
     """Fit the table from dot detections.
 
@@ -515,9 +516,11 @@ def fit_table(
         tol_px: line inlier tolerance [px] (default: from the dot spacing and image size).
         focal_prior_px: prior focal length [px] for near-top views (default: the larger image side).
         diamond_z: height of the diamond centres above the cloth [m] (default :func:`diamond_height`).
+        pixel_aspect: width over height of one pixel when known or measured from the photo
+            (:func:`~pix2pockets.vision.pixel_aspect.pixel_aspect_of_photo`); default: from the ball boxes.
 
-    Photos stretched by an export (a 16:9 frame squashed to 640x640) are fitted with the pixel aspect their
-    ball boxes show (:mod:`pix2pockets.vision.pixel_aspect`), else, when square pixels fit no labelling,
+    Photos stretched by an export (a 16:9 frame squashed to 640x640) are fitted with ``pixel_aspect`` or the
+    one their ball boxes show (:mod:`pix2pockets.vision.pixel_aspect`), else, when square pixels fit no labelling,
     with one of the usual export stretches (:data:`~pix2pockets.vision.pixel_aspect.EXPORT_ASPECTS`), which
     then needs :data:`MIN_DOTS_FOR_ASPECT` matched diamonds. The camera's ``K`` holds the aspect.
 
@@ -540,6 +543,8 @@ def fit_table(
         pts = np.asarray(dots, dtype=float).reshape(-1, 2)
         back = np.arange(len(pts))
         n_total = len(pts)
+    if pixel_aspect is not None:
+        ball_aspect = snapped_aspect(float(pixel_aspect))
     if not np.all(np.isfinite(pts)):
         raise TableFitError("dot positions must be finite")
     if len(pts) < MIN_DOTS:
