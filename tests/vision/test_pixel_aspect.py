@@ -6,6 +6,7 @@ import pytest
 
 from pix2pockets.vision.pixel_aspect import (
     ball_outline_aspect,
+    boxes_in_aspect,
     pixel_aspect_of_balls,
     pixel_aspect_of_photo,
     snapped_aspect,
@@ -61,3 +62,14 @@ def test_ball_outline_aspect_is_nan_at_the_border_or_on_plain_cloth():
     assert np.isnan(ball_outline_aspect(img, np.array([0.0, 0.0, 12.0, 12.0])))
     cloth = np.full_like(img, 90)
     assert np.isnan(ball_outline_aspect(cloth, boxes[2]))
+
+
+def test_boxes_in_aspect_keeps_centres_and_areas():
+    boxes = np.array([[10, 10, 30, 30], [50, 40, 70, 62], [100, 100, 118, 118.0]])
+    scores = np.full(3, 0.9)
+    out = boxes_in_aspect(boxes, scores, 0.5625)
+    w, h = out[:, 2] - out[:, 0], out[:, 3] - out[:, 1]
+    assert np.median(w / h) == pytest.approx(0.5625)
+    np.testing.assert_allclose(out[:, :2] + out[:, 2:], boxes[:, :2] + boxes[:, 2:])
+    np.testing.assert_allclose(w * h, (boxes[:, 2] - boxes[:, 0]) * (boxes[:, 3] - boxes[:, 1]))
+    assert np.array_equal(boxes_in_aspect(boxes, scores, 1.0), boxes)  # a photo as taken keeps its boxes

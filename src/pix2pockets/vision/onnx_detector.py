@@ -21,7 +21,7 @@ from pix2pockets.vision.heatmap_decode import decode_ball_peaks, decode_peaks
 from pix2pockets.vision.heatmap_layout import INPUT_MULTIPLE
 from pix2pockets.vision.letterbox import network_input
 from pix2pockets.vision.onnx_session import open_session
-from pix2pockets.vision.pixel_aspect import pixel_aspect_of_photo
+from pix2pockets.vision.pixel_aspect import boxes_in_aspect, pixel_aspect_of_photo
 
 DEFAULT_MODEL = "detector.onnx"
 NETWORK_MULTIPLE = 32
@@ -120,10 +120,14 @@ class OnnxDetector:
         out, box, size = self._forward(image_rgb)
         c = self.config
         if self.classifier is None:
-            balls = decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=BALL_IDS, image_size=size)
+            balls = _in_photo_aspect(
+                image_rgb,
+                decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=BALL_IDS, image_size=size),
+            )
         else:
             balls, heat = decode_ball_peaks(out, box, c.conf_threshold, c.max_detections, image_size=size)
             aspect = pixel_aspect_of_photo(image_rgb, balls.boxes, balls.confidence)  # 1 unless stretched
+            balls = _with_boxes(balls, boxes_in_aspect(balls.boxes, balls.confidence, aspect))
             probs = self.classifier.classify(image_rgb, balls.boxes, aspect)
             balls = classified_balls(balls, heat, probs, c.conf_threshold)
         dots = decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=(DOT_ID,), image_size=size)
@@ -135,7 +139,19 @@ class OnnxDetector:
         """Class-agnostic ball detections from the "any ball" heatmap (class ids all 0, meaning "ball")."""
         out, box, size = self._forward(image_rgb)
         c = self.config
-        return decode_peaks(out, box, c.conf_threshold, c.max_detections, agnostic=True, image_size=size)
+        balls = decode_peaks(out, box, c.conf_threshold, c.max_detections, agnostic=True, image_size=size)
+        return _in_photo_aspect(image_rgb, balls)
+
+
+def _with_boxes(det: Detections, boxes: np.ndarray) -> Detections:
+    return Detections(boxes, det.confidence, det.class_id, det.contact, det.own_score)
+
+
+def _in_photo_aspect(image_rgb: np.ndarray, balls: Detections) -> Detections:
+    """Ball detections with their boxes as stretched as the photo's pixels (:mod:`pix2pockets.vision.pixel_aspect`;
+    unchanged for a photo as the camera took it)."""
+    aspect = pixel_aspect_of_photo(image_rgb, balls.boxes, balls.confidence)
+    return _with_boxes(balls, boxes_in_aspect(balls.boxes, balls.confidence, aspect))
 
 
 def default_classifier(threads: int = 1) -> BallClassifier | None:

@@ -111,3 +111,19 @@ def pixel_aspect_of_photo(
         return 1.0
     median = float(np.median(measured))
     return float(min(EXPORT_ASPECTS, key=lambda a: abs(np.log(a / median))))
+
+
+def boxes_in_aspect(boxes: np.ndarray, scores: np.ndarray, aspect: float, min_score: float = 0.3) -> np.ndarray:
+    """Ball boxes (n, 4) reshaped so their median width over height (of those scoring ``min_score`` or more)
+    is the photo's pixel ``aspect``; each box keeps its centre and area. Unchanged for ``aspect`` 1.
+
+    A detector trained on photos with square pixels draws round boxes around the squashed balls of a
+    stretched export, which then miss the labelled (stretched) boxes at strict IoU.
+    """
+    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
+    if aspect == 1.0 or len(boxes) == 0:  # a photo as the camera took it keeps its boxes
+        return boxes
+    factor = aspect / pixel_aspect_of_balls(boxes, scores, min_score, tolerance=1.0)
+    centre = 0.5 * (boxes[:, :2] + boxes[:, 2:])
+    half = 0.5 * (boxes[:, 2:] - boxes[:, :2]) * np.array([np.sqrt(factor), 1 / np.sqrt(factor)])
+    return np.hstack([centre - half, centre + half])
