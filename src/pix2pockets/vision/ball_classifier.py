@@ -57,7 +57,7 @@ class BallClassifier:
         """Probabilities (n, 5) of cue, black, solid, stripe and no ball for xyxy boxes (n, 4) [px].
 
         ``aspect``: width over height of one pixel; by default read from the boxes
-        (:func:`~pix2pockets.vision.ball_crops.pixel_aspect_of_balls`), so the balls of a photo stretched by an
+        (:func:`~pix2pockets.vision.pixel_aspect.pixel_aspect_of_balls`), so the balls of a photo stretched by an
         export are cropped round again.
         """
         boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)

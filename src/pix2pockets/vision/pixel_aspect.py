@@ -2,7 +2,8 @@
 
 Exports often squash every photo to one size: Roboflow's 640x640 (the paper's dataset, the real ball photos
 in ``shared/data``) turns a 16:9 frame's pixels into pixels 0.5625 times as wide as tall. Balls are round,
-so their boxes are all stretched alike.
+so their boxes, or else their outlines in the photo, are all stretched alike. The detector reshapes its ball
+boxes and cuts the classifier's crops with that aspect, and the table fit tries it first.
 """
 
 from __future__ import annotations
