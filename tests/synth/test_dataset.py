@@ -67,3 +67,15 @@ def test_bad_split(bad):
 def test_split_counts():
     names = split_assignment(100, (0.8, 0.1, 0.1), 0)
     assert names.count("train") == 80 and names.count("valid") == 10 and names.count("test") == 10
+
+
+def test_only_split_renders_the_same_images_of_that_split(tmp_path):
+    full = write_dataset(tmp_path / "full", 6, seed=4, size=SIZE, split=(0.5, 0.0, 0.5))
+    part = write_dataset(tmp_path / "part", 6, seed=4, size=SIZE, split=(0.5, 0.0, 0.5), only_split="test")
+    assert part["counts"] == {"train": 0, "valid": 0, "test": 3}
+    tests = [it["image"] for it in full["images"] if it["image"].startswith("test/")]
+    assert [it["image"] for it in part["images"]] == tests
+    for name in tests:
+        assert (tmp_path / "part" / name).read_bytes() == (tmp_path / "full" / name).read_bytes()
+    with pytest.raises(ValueError, match="only_split"):
+        write_dataset(tmp_path / "bad", 2, size=SIZE, only_split="tests")

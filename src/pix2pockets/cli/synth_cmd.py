@@ -18,6 +18,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--views", type=int, default=1, choices=[1, 3], help="3: each scene from top, 45 deg, front")
     parser.add_argument("--size", default="960x540", help="image size WxH (default 960x540)")
     parser.add_argument("--split", default="0.8,0.1,0.1", help="train,valid,test fractions (default 0.8,0.1,0.1)")
+    parser.add_argument(
+        "--only-split",
+        choices=["train", "valid", "test"],
+        default=None,
+        help="render only the scenes of this split (the same images the whole dataset holds there)",
+    )
     parser.add_argument("--force", action="store_true", help="overwrite a non-empty output folder")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     parser.set_defaults(func=run)
@@ -38,6 +44,7 @@ def run(args: argparse.Namespace) -> int:
         split=split,
         force=args.force,
         progress=not args.no_progress,
+        only_split=args.only_split,
     )
     counts = ", ".join(f"{k} {v}" for k, v in manifest["counts"].items())
     print(f"wrote {sum(manifest['counts'].values())} images to {args.out} ({counts})")

@@ -119,6 +119,7 @@ def write_dataset(
     split: Sequence[float] = (0.8, 0.1, 0.1),
     force: bool = False,
     progress: bool = False,
+    only_split: str | None = None,
 ) -> dict:
     """Render ``n`` scenes into a YOLO dataset at ``out_dir``.
 
@@ -131,6 +132,8 @@ def write_dataset(
         split: train/valid/test fractions; all views of a scene share a split.
         force: overwrite a non-empty ``out_dir``.
         progress: show a tqdm progress bar.
+        only_split: render only the scenes of this split (``train``, ``valid`` or ``test``): the same images
+            as the whole dataset holds there, e.g. a held-out test split without its training scenes.
 
     Returns:
         The manifest (also written to ``out_dir/manifest.json``).
@@ -144,9 +147,11 @@ def write_dataset(
     fractions = tuple(float(f) for f in split)
     if len(fractions) != 3 or min(fractions) < 0 or abs(sum(fractions) - 1) > 1e-6:
         raise ValueError(f"split must be three non-negative fractions summing to 1, got {split!r}")
+    if only_split is not None and only_split not in SPLITS:
+        raise ValueError(f"only_split must be one of {', '.join(SPLITS)}, got {only_split!r}")
     assignment = split_assignment(n, fractions, seed)
     items = []
-    iterator = range(n)
+    iterator = [i for i in range(n) if only_split is None or assignment[i] == only_split]
     if progress:
         from tqdm import tqdm
 
