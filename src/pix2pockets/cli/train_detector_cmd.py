@@ -95,7 +95,6 @@ def run(args: argparse.Namespace) -> int:
         epochs=args.epochs,
         seed=args.seed,
         batch=args.batch,
-        crop=args.crop,
         lr=args.lr,
         threads=args.threads,
         limit=args.limit,

@@ -24,7 +24,6 @@ from pix2pockets.vision.base import Detector
 from pix2pockets.vision.classes import CLASS_NAMES
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.pixel_aspect import pixel_aspect_of_photo
 from pix2pockets.vision.postprocess import DEFAULT_NMS_IOU, box_iou, resolve_ball_classes
 from pix2pockets.vision.rail_height import refine_fit_height
 from pix2pockets.vision.table_fit import fit_table
@@ -126,8 +125,7 @@ def suggest(
 
     t = time.perf_counter()
     det = clean_detections(raw)
-    balls = det[det.is_ball]
-    fit = fit_table(det, (w, h), spec, pixel_aspect=pixel_aspect_of_photo(rgb, balls.boxes, balls.own_score))
+    fit = fit_table(det, (w, h), spec)  # a stretched photo's ball boxes carry its pixel aspect
     timings["fit"] = time.perf_counter() - t
 
     t = time.perf_counter()

@@ -120,14 +120,11 @@ class OnnxDetector:
         out, box, size = self._forward(image_rgb)
         c = self.config
         if self.classifier is None:
-            balls = _in_photo_aspect(
-                image_rgb,
-                decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=BALL_IDS, image_size=size),
-            )
+            balls = decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=BALL_IDS, image_size=size)
+            balls, _ = _in_photo_aspect(image_rgb, balls)
         else:
             balls, heat = decode_ball_peaks(out, box, c.conf_threshold, c.max_detections, image_size=size)
-            aspect = pixel_aspect_of_photo(image_rgb, balls.boxes, balls.confidence)  # 1 unless stretched
-            balls = _with_boxes(balls, boxes_in_aspect(balls.boxes, balls.confidence, aspect))
+            balls, aspect = _in_photo_aspect(image_rgb, balls)
             probs = self.classifier.classify(image_rgb, balls.boxes, aspect)
             balls = classified_balls(balls, heat, probs, c.conf_threshold)
         dots = decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=(DOT_ID,), image_size=size)
@@ -140,18 +137,15 @@ class OnnxDetector:
         out, box, size = self._forward(image_rgb)
         c = self.config
         balls = decode_peaks(out, box, c.conf_threshold, c.max_detections, agnostic=True, image_size=size)
-        return _in_photo_aspect(image_rgb, balls)
+        return _in_photo_aspect(image_rgb, balls)[0]
 
 
-def _with_boxes(det: Detections, boxes: np.ndarray) -> Detections:
-    return Detections(boxes, det.confidence, det.class_id, det.contact, det.own_score)
-
-
-def _in_photo_aspect(image_rgb: np.ndarray, balls: Detections) -> Detections:
-    """Ball detections with their boxes as stretched as the photo's pixels (:mod:`pix2pockets.vision.pixel_aspect`;
-    unchanged for a photo as the camera took it)."""
+def _in_photo_aspect(image_rgb: np.ndarray, balls: Detections) -> tuple[Detections, float]:
+    """Ball detections with their boxes as stretched as the photo's pixels, and that pixel aspect
+    (:mod:`pix2pockets.vision.pixel_aspect`; 1 and unchanged boxes for a photo as the camera took it)."""
     aspect = pixel_aspect_of_photo(image_rgb, balls.boxes, balls.confidence)
-    return _with_boxes(balls, boxes_in_aspect(balls.boxes, balls.confidence, aspect))
+    boxes = boxes_in_aspect(balls.boxes, balls.confidence, aspect)
+    return Detections(boxes, balls.confidence, balls.class_id, balls.contact, balls.own_score), aspect
 
 
 def default_classifier(threads: int = 1) -> BallClassifier | None:

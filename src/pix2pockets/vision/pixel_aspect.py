@@ -24,6 +24,19 @@ SNAP_TOLERANCE = 1.08
 """A measured aspect within this factor of one of :data:`EXPORT_ASPECTS` is taken as that one."""
 
 
+def median_box_aspect(
+    boxes: np.ndarray, scores: np.ndarray | None = None, min_score: float = 0.3, min_balls: int = 3
+) -> float | None:
+    """Median width over height of the ball boxes (n, 4) scoring at least ``min_score`` (all boxes without
+    ``scores``), or None with fewer than ``min_balls`` of them."""
+    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
+    w, h = boxes[:, 2] - boxes[:, 0], boxes[:, 3] - boxes[:, 1]
+    ok = (w > 0) & (h > 0)
+    if scores is not None:
+        ok &= np.asarray(scores, dtype=float).reshape(-1) >= min_score
+    return float(np.median(w[ok] / h[ok])) if ok.sum() >= min_balls else None
+
+
 def pixel_aspect_of_balls(
     boxes: np.ndarray,
     scores: np.ndarray | None = None,
@@ -34,19 +47,11 @@ def pixel_aspect_of_balls(
     """Width over height of one pixel, read from ball boxes (n, 4): balls are round, so in a photo stretched
     by an export (a 16:9 frame squashed to 640x640) their boxes are all stretched alike.
 
-    The median box width over height of the boxes scoring at least ``min_score`` (all boxes without
-    ``scores``); 1 with fewer than ``min_balls`` of them or within ``tolerance`` of 1 (partly hidden balls and
+    :func:`median_box_aspect`; 1 without enough boxes or within ``tolerance`` of 1 (partly hidden balls and
     the image border cut single boxes).
     """
-    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
-    w, h = boxes[:, 2] - boxes[:, 0], boxes[:, 3] - boxes[:, 1]
-    ok = (w > 0) & (h > 0)
-    if scores is not None:
-        ok &= np.asarray(scores, dtype=float).reshape(-1) >= min_score
-    if ok.sum() < min_balls:
-        return 1.0
-    aspect = float(np.median(w[ok] / h[ok]))
-    return 1.0 if 1 / tolerance < aspect < tolerance else aspect
+    aspect = median_box_aspect(boxes, scores, min_score, min_balls)
+    return 1.0 if aspect is None or 1 / tolerance < aspect < tolerance else aspect
 
 
 def snapped_aspect(aspect: float, tolerance: float = SNAP_TOLERANCE) -> float:
@@ -134,7 +139,7 @@ def boxes_in_aspect(boxes: np.ndarray, scores: np.ndarray, aspect: float, min_sc
     boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
     if aspect == 1.0 or len(boxes) == 0:  # a photo as the camera took it keeps its boxes
         return boxes
-    factor = aspect / pixel_aspect_of_balls(boxes, scores, min_score, tolerance=1.0)
+    factor = aspect / (median_box_aspect(boxes, scores, min_score) or 1.0)
     centre = 0.5 * (boxes[:, :2] + boxes[:, 2:])
     half = 0.5 * (boxes[:, 2:] - boxes[:, :2]) * np.array([np.sqrt(factor), 1 / np.sqrt(factor)])
     return np.hstack([centre - half, centre + half])

@@ -28,7 +28,7 @@ class AugmentConfig:
     """Augmentation settings.
 
     Attributes:
-        crop: square crop side fed to the network [px] (multiple of 16).
+        crop: square crop side fed to the network [px] (a multiple of 32, at least 64).
         base_long_side: the image is first scaled so its long side is this [px] (the inference size).
         scale_range: extra random zoom range applied after that.
         flip: allow horizontal flips.
@@ -50,6 +50,8 @@ class AugmentConfig:
     stretch_fraction: float = 0.0
 
     def __post_init__(self) -> None:
+        if self.crop % 32 or self.crop < 64:
+            raise ValueError(f"crop must be a multiple of 32 and >= 64, got {self.crop}")
         lo, hi = self.stretch_range
         if not 0 < lo <= hi:
             raise ValueError(f"stretch range must be 0 < lo <= hi, got {self.stretch_range}")

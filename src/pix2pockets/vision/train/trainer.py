@@ -45,7 +45,6 @@ class TrainConfig:
         epochs: passes over the five-class training images.
         seed: the one seed for initialisation, order and augmentation.
         batch: images per step.
-        crop: training crop side [px].
         lr: peak AdamW learning rate (cosine decay, linear warm-up).
         threads: torch CPU threads.
         limit: use only the first ``limit`` five-class training images (training-size ablation).
@@ -57,6 +56,7 @@ class TrainConfig:
         max_minutes: stop (checkpoint + export) after this much wall time in this run [min]; 0 = no limit.
         pretrained: start the trunk from ImageNet weights.
         init: start from the model weights of this checkpoint (``last.pt`` of an earlier run).
+        augment: crop size, zoom, flips, colour and stretch of the training samples.
     """
 
     data: tuple[str, ...]
@@ -68,7 +68,6 @@ class TrainConfig:
     epochs: int = 10
     seed: int = 0
     batch: int = 8
-    crop: int = 320
     lr: float = 2e-3
     threads: int = 1
     limit: int | None = None
@@ -85,10 +84,6 @@ class TrainConfig:
             raise ValueError("train-detector needs at least one --data (or --balls) folder")
         if self.epochs < 1 or self.batch < 1 or self.threads < 1:
             raise ValueError("epochs, batch and threads must be >= 1")
-        if self.crop % 32 or self.crop < 64:
-            raise ValueError(f"crop must be a multiple of 32 and >= 64, got {self.crop}")
-        if self.augment.crop != self.crop:
-            raise ValueError(f"crop {self.crop} and augment.crop {self.augment.crop} differ; set both")
         if self.limit is not None and self.limit < 1:
             raise ValueError("limit must be >= 1")
         if not (self.lr > 0 and 0 <= self.balls_fraction <= 4):
