@@ -40,6 +40,7 @@ def run(args: argparse.Namespace) -> int:
         "model": str(detector.model_path),
         "classifier": str(detector.classifier.model_path) if detector.classifier else None,
         "dot_refiner": str(detector.dot_refiner.model_path) if detector.dot_refiner else None,
+        "ball_refiner": str(detector.ball_refiner.model_path) if detector.ball_refiner else None,
         "conf_threshold": args.conf,
         "before_postprocess": raw.to_list(),
         "after_postprocess": post.to_list(),

@@ -7,7 +7,7 @@ from pathlib import Path
 
 
 def add_model_options(parser: argparse.ArgumentParser) -> None:
-    """--model, --classifier and --dot-refiner."""
+    """--model, --classifier, --dot-refiner and --ball-refiner."""
     parser.add_argument("--model", default=None, help="detector ONNX model (default: the bundled one)")
     parser.add_argument(
         "--classifier",
@@ -21,10 +21,16 @@ def add_model_options(parser: argparse.ArgumentParser) -> None:
         help="diamond refiner ONNX re-reading each diamond's box and score from full-resolution crops (default: the "
         "bundled one; 'none': the detector's own diamond boxes)",
     )
+    parser.add_argument(
+        "--ball-refiner",
+        default=None,
+        help="ball refiner ONNX re-reading each ball's box from full-resolution crops (default: the bundled one; "
+        "'none': the detector's own ball boxes)",
+    )
 
 
 def add_detector_options(parser: argparse.ArgumentParser) -> None:
-    """--model, --classifier, --dot-refiner, --input-size, --max-input-size and --threads."""
+    """--model, --classifier, --dot-refiner, --ball-refiner, --input-size, --max-input-size and --threads."""
     add_model_options(parser)
     parser.add_argument(
         "--input-size", type=int, default=640, help="network input long side for images up to this size (default 640)"
@@ -43,6 +49,7 @@ def detector_from_args(args: argparse.Namespace, conf_threshold: float):
     from pix2pockets.vision.onnx_detector import (
         OnnxDetector,
         OnnxDetectorConfig,
+        ball_refiner_from_option,
         classifier_from_option,
         default_model_path,
         dot_refiner_from_option,
@@ -56,16 +63,19 @@ def detector_from_args(args: argparse.Namespace, conf_threshold: float):
         threads=args.threads,
     )
     classifier = classifier_from_option(args.classifier, args.threads)
-    return OnnxDetector(model, config, classifier, dot_refiner_from_option(args.dot_refiner, args.threads))
+    dot_refiner = dot_refiner_from_option(args.dot_refiner, args.threads)
+    ball_refiner = ball_refiner_from_option(args.ball_refiner, args.threads)
+    return OnnxDetector(model, config, classifier, dot_refiner, ball_refiner)
 
 
 def chosen_detector(args: argparse.Namespace):
-    """The detector ``--model`` / ``--classifier`` / ``--dot-refiner`` ask for, or None when none is given (use the
-    default)."""
-    if not (args.model or args.classifier or args.dot_refiner):
+    """The detector ``--model`` / ``--classifier`` / ``--dot-refiner`` / ``--ball-refiner`` ask for, or None when none
+    is given (use the default)."""
+    if not (args.model or args.classifier or args.dot_refiner or args.ball_refiner):
         return None
     from pix2pockets.vision.onnx_detector import (
         OnnxDetector,
+        ball_refiner_from_option,
         classifier_from_option,
         default_model_path,
         dot_refiner_from_option,
@@ -75,4 +85,5 @@ def chosen_detector(args: argparse.Namespace):
         args.model or default_model_path(),
         classifier=classifier_from_option(args.classifier),
         dot_refiner=dot_refiner_from_option(args.dot_refiner),
+        ball_refiner=ball_refiner_from_option(args.ball_refiner),
     )

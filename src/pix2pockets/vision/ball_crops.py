@@ -58,20 +58,28 @@ def crop_balls(
         aspect: width over height of one pixel; a crop is then ``aspect`` times as wide as tall in the photo,
             so the ball comes out round, as in an unstretched photo.
 
-    Parts of a crop outside the image repeat the nearest edge pixel. Crop windows: :func:`crop_windows`
-    (for ``aspect`` 1).
+    Parts of a crop outside the image repeat the nearest edge pixel. Crop windows: :func:`stretched_windows`.
     """
-    corners, sides = crop_windows(centres, diameters, context)
-    x_corners, x_sides = corners[:, 0], sides
-    if aspect != 1.0:
-        x_corners, x_sides = crop_windows(centres, np.asarray(diameters, dtype=float) * aspect, context)
-        x_corners = x_corners[:, 0]
+    windows = stretched_windows(centres, diameters, context, aspect)
     h, w = image.shape[:2]
-    out = np.empty((len(sides), size, size, 3), dtype=np.uint8)
-    for i, (x0, y0, side_x, side_y) in enumerate(zip(x_corners, corners[:, 1], x_sides, sides, strict=True)):
+    out = np.empty((len(windows), size, size, 3), dtype=np.uint8)
+    for i, (x0, y0, side_x, side_y) in enumerate(windows):
         xs = np.clip(np.arange(x0, x0 + side_x), 0, w - 1)
         ys = np.clip(np.arange(y0, y0 + side_y), 0, h - 1)
         region = image[ys[:, None], xs[None, :]]
         interp = cv2.INTER_AREA if min(side_x, side_y) > size else cv2.INTER_LINEAR
         out[i] = cv2.resize(region, (size, size), interpolation=interp)
     return out
+
+
+def stretched_windows(
+    centres: np.ndarray, diameters: np.ndarray, context: float = CROP_CONTEXT, aspect: float = 1.0
+) -> np.ndarray:
+    """Integer crop windows (n, 4): left, top, width, height [px], `context` diameters tall and ``aspect`` times
+    as wide (:func:`crop_windows` per axis, the same rounding as :func:`crop_balls`)."""
+    corners, sides = crop_windows(centres, diameters, context)
+    x_corners, x_sides = corners[:, 0], sides
+    if aspect != 1.0:
+        x_corners, x_sides = crop_windows(centres, np.asarray(diameters, dtype=float) * aspect, context)
+        x_corners = x_corners[:, 0]
+    return np.stack([x_corners, corners[:, 1], x_sides, sides], axis=1).reshape(-1, 4)

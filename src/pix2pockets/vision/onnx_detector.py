@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from pix2pockets.vision.ball_classifier import BallClassifier, classified_balls, default_classifier_path
+from pix2pockets.vision.ball_refiner import BallRefiner, default_ball_refiner_path
 from pix2pockets.vision.classes import BALL_IDS, DOT_ID
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.dot_refiner import DotRefiner, default_dot_refiner_path
@@ -82,6 +83,8 @@ class OnnxDetector:
         dot_refiner: optional second stage that re-reads each diamond from the full-resolution photo and
             moves its box to the diamond's centre (``pix2pockets train-dot-refiner``); None keeps the detector's
             boxes.
+        ball_refiner: optional second stage that re-reads each ball's box from the full-resolution photo before the
+            classifier reads it (``pix2pockets train-ball-refiner``); None keeps the detector's boxes.
 
     Raises:
         ValueError: if the file does not exist or is not a model of the expected form.
@@ -93,10 +96,12 @@ class OnnxDetector:
         config: OnnxDetectorConfig | None = None,
         classifier: BallClassifier | None = None,
         dot_refiner: DotRefiner | None = None,
+        ball_refiner: BallRefiner | None = None,
     ) -> None:
         self.config = config or OnnxDetectorConfig()
         self.classifier = classifier
         self.dot_refiner = dot_refiner
+        self.ball_refiner = ball_refiner
         self.session = open_session(model_path, self.config.threads, "detector model")
         self.input_name = self.session.get_inputs()[0].name
         self.model_path = Path(model_path)
@@ -105,7 +110,8 @@ class OnnxDetector:
     def from_default(cls, config: OnnxDetectorConfig | None = None) -> OnnxDetector:
         """The detector shipped with the package, with the shipped second stages when there are any."""
         threads = (config or OnnxDetectorConfig()).threads
-        return cls(default_model_path(), config, default_classifier(threads), default_dot_refiner(threads))
+        stages = default_classifier(threads), default_dot_refiner(threads), default_ball_refiner(threads)
+        return cls(default_model_path(), config, *stages)
 
     def _forward(self, image_rgb: np.ndarray):
         image = np.asarray(image_rgb)
@@ -121,10 +127,10 @@ class OnnxDetector:
         c = self.config
         if self.classifier is None:
             balls = decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=BALL_IDS, image_size=size)
-            balls, _ = _in_photo_aspect(image_rgb, balls)
+            balls, _ = self._refined(image_rgb, balls)
         else:
             balls, heat = decode_ball_peaks(out, box, c.conf_threshold, c.max_detections, image_size=size)
-            balls, aspect = _in_photo_aspect(image_rgb, balls)
+            balls, aspect = self._refined(image_rgb, balls)
             probs = self.classifier.classify(image_rgb, balls.boxes, aspect)
             balls = classified_balls(balls, heat, probs, c.conf_threshold)
         dots = decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=(DOT_ID,), image_size=size)
@@ -137,7 +143,15 @@ class OnnxDetector:
         out, box, size = self._forward(image_rgb)
         c = self.config
         balls = decode_peaks(out, box, c.conf_threshold, c.max_detections, agnostic=True, image_size=size)
-        return _in_photo_aspect(image_rgb, balls)[0]
+        return self._refined(image_rgb, balls)[0]
+
+    def _refined(self, image_rgb: np.ndarray, balls: Detections) -> tuple[Detections, float]:
+        """Ball detections in the photo's pixel aspect, re-boxed by the ball refiner when there is one, and that
+        aspect."""
+        balls, aspect = _in_photo_aspect(image_rgb, balls)
+        if self.ball_refiner is not None:
+            balls = self.ball_refiner.refine(image_rgb, balls, aspect)
+        return balls, aspect
 
 
 def _in_photo_aspect(image_rgb: np.ndarray, balls: Detections) -> tuple[Detections, float]:
@@ -168,6 +182,17 @@ def dot_refiner_from_option(option: str | None, threads: int = 1) -> DotRefiner 
     """The refiner a command-line option names: None -> the shipped one (if any), "none" -> no second stage,
     anything else -> that ONNX file."""
     return _second_stage(option, threads, DotRefiner, default_dot_refiner_path())
+
+
+def default_ball_refiner(threads: int = 1) -> BallRefiner | None:
+    """The ball box refiner shipped with the package, or None when this build has none."""
+    return ball_refiner_from_option(None, threads)
+
+
+def ball_refiner_from_option(option: str | None, threads: int = 1) -> BallRefiner | None:
+    """The ball refiner a command-line option names: None -> the shipped one (if any), "none" -> no second stage,
+    anything else -> that ONNX file."""
+    return _second_stage(option, threads, BallRefiner, default_ball_refiner_path())
 
 
 def _second_stage(option: str | None, threads: int, kind: type, shipped: Path):

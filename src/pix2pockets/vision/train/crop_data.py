@@ -7,7 +7,7 @@ second peak on a large ball), and random points on the rest of the image, ball-s
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 import cv2
@@ -125,6 +125,36 @@ def image_crops(
     return degrade_crops(np.concatenate(crops), rng, cfg.low_res), np.concatenate(labels).astype(int)
 
 
+PerImageCrops = Callable[[np.ndarray, LabelledImage, "dict[int, int] | None", np.random.Generator], tuple]
+"""(image RGB, its labels, class map, randomness) -> (crops (m, S, S, 3) uint8, targets (m, ...))."""
+
+
+def collect_from_images(
+    sources: Sequence[tuple[LabelledImage, dict[int, int] | None]],
+    read_rgb,
+    seed: int,
+    per_image: PerImageCrops,
+    desc: str,
+    progress: bool = False,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Crops and targets of `per_image` over many images, concatenated; image `j` draws from
+    ``np.random.default_rng((seed, j))``.
+
+    Raises:
+        ValueError: if there are no images.
+    """
+    from tqdm import tqdm
+
+    crops, targets = [], []
+    for j, (item, cmap) in enumerate(tqdm(sources, desc=desc, disable=not progress)):
+        c, t = per_image(read_rgb(item.image_path), item, cmap, np.random.default_rng((seed, j)))
+        crops.append(c)
+        targets.append(t)
+    if not crops:
+        raise ValueError("no images to take crops from")
+    return np.concatenate(crops), np.concatenate(targets)
+
+
 def collect_crops(
     sources: Sequence[tuple[LabelledImage, dict[int, int] | None]],
     read_rgb,
@@ -133,13 +163,9 @@ def collect_crops(
     progress: bool = False,
 ) -> tuple[np.ndarray, np.ndarray]:
     """Crops and labels from many images; image `j` draws from ``np.random.default_rng((seed, j))``."""
-    from tqdm import tqdm
 
-    crops, labels = [], []
-    for j, (item, cmap) in enumerate(tqdm(sources, desc="crops", disable=not progress)):
-        c, lab = image_crops(read_rgb(item.image_path), item, cmap, np.random.default_rng((seed, j)), cfg)
-        crops.append(c)
-        labels.append(lab)
-    if not crops:
-        raise ValueError("no images to take crops from")
-    return np.concatenate(crops), np.concatenate(labels)
+    def per_image(image, item, cmap, rng):
+        return image_crops(image, item, cmap, rng, cfg)
+
+    crops, labels = collect_from_images(sources, read_rgb, seed, per_image, "crops", progress)
+    return crops, labels.astype(int)

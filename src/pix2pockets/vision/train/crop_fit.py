@@ -1,5 +1,6 @@
-"""The training loop the crop networks share (ball classifier, diamond refiner): AdamW with a cosine learning
-rate, shuffled batches, a progress bar; and the labelled datasets they read."""
+"""What the crop networks' training shares (ball classifier, diamond and ball refiners): AdamW with a cosine
+learning rate, shuffled batches, a progress bar; the labelled datasets they read; the refiners' flips and turns
+and their exported form."""
 
 from __future__ import annotations
 
@@ -73,3 +74,32 @@ def fit_crops(
             bar.update(1)
             bar.set_postfix(loss=f"{loss.item():.3f}")
     bar.close()
+
+
+class RawOutputs(nn.Module):
+    """What a refiner's ONNX file computes: uint8 crops (N, S, S, 3) -> the network's outputs (N, k)."""
+
+    def __init__(self, net: nn.Module) -> None:
+        super().__init__()
+        self.net = net
+
+    def forward(self, crops: torch.Tensor) -> torch.Tensor:
+        return self.net(crops.permute(0, 3, 1, 2).float())
+
+
+def flip_rotate(x: torch.Tensor, targets: torch.Tensor, gen: torch.Generator) -> tuple[torch.Tensor, torch.Tensor]:
+    """A random mirror and quarter turn of a batch of crops (N, 3, S, S), applied to their targets too: (N, 2)
+    centres as fractions of the crop side from its middle, optionally followed by a width and height (N, 4),
+    which a quarter turn swaps."""
+    t = targets.clone()
+    if bool(torch.rand(1, generator=gen) < 0.5):
+        x = x.flip(3)
+        t[:, 0] = -t[:, 0]
+    for _ in range(int(torch.randint(0, 4, (1,), generator=gen))):
+        # rot90 over (rows, columns): the pixel at (row r, column c) moves to (S - 1 - c, r)
+        x = torch.rot90(x, 1, dims=(2, 3))
+        turned = [t[:, 1], -t[:, 0]]
+        if t.shape[1] == 4:
+            turned += [t[:, 3], t[:, 2]]
+        t = torch.stack(turned, dim=1)
+    return x, t

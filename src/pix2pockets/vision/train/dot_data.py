@@ -14,7 +14,7 @@ import numpy as np
 
 from pix2pockets.vision.classes import DOT_ID
 from pix2pockets.vision.dot_refiner import DOT_CROP_SIZE, centre_targets, crop_dots, dot_crop_sides
-from pix2pockets.vision.train.crop_data import degrade_crops
+from pix2pockets.vision.train.crop_data import collect_from_images, degrade_crops
 from pix2pockets.vision.yolo_data import LabelledImage
 
 
@@ -76,13 +76,11 @@ def collect_dot_crops(
     Raises:
         ValueError: if no image has a labelled diamond.
     """
-    from tqdm import tqdm
 
-    crops, targets = [], []
-    for j, (item, cmap) in enumerate(tqdm(sources, desc="diamond crops", disable=not progress)):
-        c, t = image_dot_crops(read_rgb(item.image_path), item, cmap, np.random.default_rng((seed, j)), cfg)
-        crops.append(c)
-        targets.append(t)
-    if not sum(len(t) for t in targets):
+    def per_image(image, item, cmap, rng):
+        return image_dot_crops(image, item, cmap, rng, cfg)
+
+    crops, targets = collect_from_images(sources, read_rgb, seed, per_image, "diamond crops", progress)
+    if not len(targets):
         raise ValueError("no labelled diamonds (class 'dot') in these datasets")
-    return np.concatenate(crops), np.concatenate(targets).astype(np.float32)
+    return crops, targets.astype(np.float32)

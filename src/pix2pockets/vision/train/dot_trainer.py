@@ -17,20 +17,9 @@ from torch import nn
 from pix2pockets.vision.dot_refiner import DEFAULT_DOT_REFINER, DOT_CROP_SIZE, N_OUTPUTS, OUTPUT_NAME
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.train.crop_classifier import CropNet, photometric
-from pix2pockets.vision.train.crop_fit import fit_crops, labelled_sources
+from pix2pockets.vision.train.crop_fit import RawOutputs, fit_crops, flip_rotate, labelled_sources
 from pix2pockets.vision.train.dot_data import DotCropConfig, collect_dot_crops
 from pix2pockets.vision.train.onnx_export import write_onnx
-
-
-class _Exported(nn.Module):
-    """What the ONNX file computes: uint8 crops (N, S, S, 3) -> centres (N, 2) as crop-side fractions."""
-
-    def __init__(self, net: CropNet) -> None:
-        super().__init__()
-        self.net = net
-
-    def forward(self, crops: torch.Tensor) -> torch.Tensor:
-        return self.net(crops.permute(0, 3, 1, 2).float())
 
 
 @dataclass(frozen=True, slots=True)
@@ -72,20 +61,6 @@ class DotTrainConfig:
             raise ValueError(f"centre_jitter must be in [0, 2] diamond sides, got {self.centre_jitter}")
 
 
-def flip_rotate(x: torch.Tensor, targets: torch.Tensor, gen: torch.Generator) -> tuple[torch.Tensor, torch.Tensor]:
-    """A random mirror and quarter turn of a batch of crops (N, 3, S, S), applied to their centre targets (N, 2)
-    (fractions of the crop side from its middle) too."""
-    t = targets.clone()
-    if bool(torch.rand(1, generator=gen) < 0.5):
-        x = x.flip(3)
-        t[:, 0] = -t[:, 0]
-    for _ in range(int(torch.randint(0, 4, (1,), generator=gen))):
-        # rot90 over (rows, columns): the pixel at (row r, column c) moves to (S - 1 - c, r)
-        x = torch.rot90(x, 1, dims=(2, 3))
-        t = torch.stack([t[:, 1], -t[:, 0]], dim=1)
-    return x, t
-
-
 def centre_loss(out: torch.Tensor, targets: torch.Tensor) -> torch.Tensor:
     """Mean L1 distance between predicted and true centres, in crop pixels."""
     return (out - targets).abs().sum(dim=1).mean() * DOT_CROP_SIZE
@@ -113,7 +88,7 @@ def export_dot_refiner(model: CropNet, path: Path) -> Path:
     """Write the refiner (uint8 NHWC crops in, (N, 2) centres out) as ONNX with a dynamic batch."""
     example = torch.zeros(2, DOT_CROP_SIZE, DOT_CROP_SIZE, 3, dtype=torch.uint8)
     axes = {"crops": {0: "n"}, OUTPUT_NAME: {0: "n"}}
-    return write_onnx(_Exported(model), example, path, "crops", OUTPUT_NAME, axes)
+    return write_onnx(RawOutputs(model), example, path, "crops", OUTPUT_NAME, axes)
 
 
 def train_dot_refiner(cfg: DotTrainConfig, progress: bool = True) -> Path:
