@@ -92,6 +92,7 @@ def run_rendered(
     onnx: bool = False,
     model: str | None = None,
     dot_refiner: str | None = None,
+    ball_refiner: str | None = None,
 ) -> dict:
     from pix2pockets.synth.renderer import render_views
     from pix2pockets.vision.rail_height import refine_fit_height
@@ -101,16 +102,21 @@ def run_rendered(
         from pix2pockets.pipeline.photo import clean_detections, default_detector
         from pix2pockets.vision.onnx_detector import (
             OnnxDetector,
+            ball_refiner_from_option,
             default_classifier,
             default_model_path,
             dot_refiner_from_option,
         )
 
-        if model is None and dot_refiner is None:
+        if model is None and dot_refiner is None and ball_refiner is None:
             detector = default_detector()
         else:
-            refiner = dot_refiner_from_option(dot_refiner)
-            detector = OnnxDetector(model or default_model_path(), classifier=default_classifier(), dot_refiner=refiner)
+            detector = OnnxDetector(
+                model or default_model_path(),
+                classifier=default_classifier(),
+                dot_refiner=dot_refiner_from_option(dot_refiner),
+                ball_refiner=ball_refiner_from_option(ball_refiner),
+            )
 
     views = ("top", "high", "front")
     truth_err: dict[str, dict[str, list[float]]] = {m.value: {v: [] for v in views} for m in METHODS}
@@ -227,13 +233,17 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--dot-refiner", default=None, help="rendered, --onnx: this diamond refiner ONNX ('none': without one)"
     )
+    parser.add_argument(
+        "--ball-refiner", default=None, help="rendered, --onnx: this ball refiner ONNX ('none': without one)"
+    )
     parser.add_argument("--size", default="1280x720", help="rendered: image size WxH")
     parser.add_argument("--json", help="write results to this JSON file")
     args = parser.parse_args(argv)
     if args.rendered:
         size = tuple(int(v) for v in args.size.lower().split("x"))
         height = "known" if args.known_height else args.height
-        res = run_rendered(args.rendered, args.seed, height, size, args.onnx, args.model, args.dot_refiner)
+        stages = args.model, args.dot_refiner, args.ball_refiner
+        res = run_rendered(args.rendered, args.seed, height, size, args.onnx, *stages)
         print(
             f"projection error, {res['sets']} rendered sets x 3 views ({res['detections']}, "
             f"{height} diamond height), scaled to a 9-ft table [cm]"

@@ -52,6 +52,33 @@ def test_refined_targets_find_a_drawn_disc():
     assert np.allclose(boxes_from_outputs(t[None], windows), truth)
 
 
+class _FixedOutputs:
+    """Stands in for an onnxruntime session: every crop's ball is centred at (+0.1, 0) crop sides, and 0.5 x 2 crop
+    sides large (wider than the refiner may make it)."""
+
+    def run(self, _names, feeds):
+        n = len(next(iter(feeds.values())))
+        return [np.tile([0.1, 0.0, 0.5, 2.0], (n, 1))]
+
+
+def _stub_refiner() -> BallRefiner:
+    refiner = BallRefiner.__new__(BallRefiner)
+    refiner.session, refiner.input_name = _FixedOutputs(), "crops"
+    return refiner
+
+
+def test_refine_moves_confident_balls_and_their_contacts_and_keeps_faint_ones():
+    boxes = np.array([[40, 40, 50, 50], [80, 60, 90, 70], [0, 0, 10, 10.0]])
+    balls = Detections(boxes, [0.9, 0.05, 0.5], [2, 3, 0], [[45, 50], [85, 70], [5, 10.0]])
+    out = _stub_refiner().refine(np.zeros((100, 120, 3), np.uint8), balls)
+    # ball 0: window 20 px from (35, 35): centre (47, 45), 10 px wide, height held at twice the detector's 10 px
+    assert np.allclose(out.boxes[0], [42, 35, 52, 55])
+    assert np.allclose(out.contact[0], [47, 50])
+    assert np.array_equal(out.boxes[1], boxes[1]) and np.array_equal(out.contact[1], [85, 70])  # below 0.1
+    assert out.boxes[2].min() >= 0  # clipped to the image
+    assert np.array_equal(out.confidence, balls.confidence) and np.array_equal(out.class_id, balls.class_id)
+
+
 def test_missing_or_wrong_model_is_a_clear_error(tmp_path):
     with pytest.raises(ValueError, match="not found"):
         BallRefiner(tmp_path / "nope.onnx")

@@ -24,6 +24,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         thing="ball",
         size_unit="ball diameters (standard deviation)",
     )
+    parser.add_argument(
+        "--stretch",
+        type=float,
+        default=0.3,
+        help="share of crops cut with a window of another aspect (0.5-2), the ball squashed in them as in a "
+        "stretched photo (default 0.3)",
+    )
     parser.set_defaults(func=run)
 
 
@@ -32,6 +39,6 @@ def run(args: argparse.Namespace) -> int:
         from pix2pockets.vision.train.ball_refiner_trainer import BallRefinerTrainConfig, train_ball_refiner
     except ImportError as err:
         raise ValueError(f"train-ball-refiner needs torch (pip install 'pix2pockets[train]'): {err}") from err
-    cfg = BallRefinerTrainConfig(**crop_training_settings(args))
+    cfg = BallRefinerTrainConfig(**crop_training_settings(args), stretch=args.stretch)
     print(f"wrote {train_ball_refiner(cfg, progress=not args.quiet)}")
     return 0

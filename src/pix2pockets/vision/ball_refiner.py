@@ -34,6 +34,10 @@ N_OUTPUTS = 4
 middle, then the box's width and height as fractions of them."""
 OUTPUT_NAME = "ball_box"
 """Name of the refiner's ONNX output."""
+REFINE_MIN_SCORE = 0.1
+"""Balls the detector scores below this keep their box: about 60 % of the raw candidates at the 0.05 floor, never
+read by the pipeline (it keeps cue and 8 from 0.15, solids and stripes from 0.3); refining them too changed no AP50
+on the 640 px test renders (``docs/benchmarks-detector.md``)."""
 MAX_SIZE_CHANGE = 2.0
 """A refined box is kept within this factor of the detector's size per side (outputs never seen in training are
 held there)."""
@@ -108,14 +112,17 @@ class BallRefiner:
         refined = boxes_from_outputs(self.session.run(None, {self.input_name: crops})[0], windows)
         return _limit_size_change(refined, boxes)
 
-    def refine(self, image_rgb: np.ndarray, balls: Detections, aspect: float = 1.0) -> Detections:
-        """The ball detections with refined boxes (clipped to the image); contact points move with their box's
-        centre; scores, classes and order unchanged."""
-        if len(balls) == 0:
+    def refine(
+        self, image_rgb: np.ndarray, balls: Detections, aspect: float = 1.0, min_score: float = REFINE_MIN_SCORE
+    ) -> Detections:
+        """The ball detections scoring at least `min_score` with refined boxes (clipped to the image), contact points
+        moved with their box's centre; the others, every score, class and the order unchanged."""
+        todo = balls.confidence >= min_score
+        if not todo.any():
             return balls
-        boxes = self.boxes(image_rgb, balls.boxes, aspect)
+        boxes = balls.boxes.copy()
         h, w = image_rgb.shape[:2]
-        boxes = np.clip(boxes, 0, [w, h, w, h])
+        boxes[todo] = np.clip(self.boxes(image_rgb, boxes[todo], aspect), 0, [w, h, w, h])
         shift = 0.5 * (boxes[:, :2] + boxes[:, 2:]) - balls.centres
         return Detections(boxes, balls.confidence, balls.class_id, balls.contact + shift, balls.own_score)
 

@@ -75,3 +75,16 @@ def test_datasets_without_balls_are_refused():
     sources = [(_item([[10, 10, 14, 14]], [4]), IDENTITY)]
     with pytest.raises(ValueError, match="no labelled balls"):
         collect_ball_box_crops(sources, lambda _path: _image_with_balls([]), seed=0)
+
+
+def test_stretched_crops_squash_the_ball_and_its_target_alike():
+    cfg = BallBoxCropConfig(copies=4, low_res=0.0, stretch=1.0, centre_jitter=0.0, size_jitter=(1.0, 1.0))
+    crops, targets = image_ball_box_crops(
+        _image_with_balls(BALLS), _item(BALLS, [0, 3]), IDENTITY, np.random.default_rng(2), cfg
+    )
+    ratios = targets[:, 2] / targets[:, 3]
+    assert np.ptp(ratios) > 0.2  # balls come out squashed by different amounts
+    for crop, t in zip(crops, targets, strict=True):
+        lit = np.argwhere(crop[:, :, 0] > 145)
+        width, height = (lit.max(axis=0) - lit.min(axis=0) + 1)[::-1] / S
+        assert t[2] == pytest.approx(width, abs=2.5 / S) and t[3] == pytest.approx(height, abs=2.5 / S)

@@ -65,6 +65,8 @@ def test_bad_settings_are_refused():
         BallRefinerTrainConfig(data=("d",), out="o", copies=0)
     with pytest.raises(ValueError, match="centre_jitter"):
         BallRefinerTrainConfig(data=("d",), out="o", centre_jitter=0.5)
+    with pytest.raises(ValueError, match="stretch"):
+        BallRefinerTrainConfig(data=("d",), out="o", stretch=1.5)
 
 
 def test_exported_refiner_runs_in_onnxruntime(tmp_path):

@@ -29,12 +29,18 @@ class BallBoxCropConfig:
         size_jitter: range of the size scale per box side (log-uniform; the detector's 1st-99th percentiles
             are 0.6-1.55).
         low_res: probability that a crop is re-sampled through a lower resolution.
+        stretch: probability that a crop is cut with a window of another aspect (log-uniform in
+            ``stretch_range``), so the ball in it is squashed as in a photo stretched by an export whose stretch
+            was not recognised; the target box is squashed with it, so the refiner learns to box what it sees.
+        stretch_range: range of those window aspects (width over height).
     """
 
     copies: int = 3
     centre_jitter: float = 0.1
     size_jitter: tuple[float, float] = (0.65, 1.5)
     low_res: float = 0.3
+    stretch: float = 0.3
+    stretch_range: tuple[float, float] = (0.5, 2.0)
 
 
 def jittered_boxes(boxes: np.ndarray, rng: np.random.Generator, cfg: BallBoxCropConfig) -> np.ndarray:
@@ -68,10 +74,16 @@ def image_ball_box_crops(
         size = BALL_REFINE_CROP_SIZE
         return np.empty((0, size, size, 3), np.uint8), np.empty((0, 4))
     crops, targets = [], []
+    lo, hi = np.log(cfg.stretch_range)
     for _ in range(cfg.copies):
-        c, windows = crop_for_refiner(image, jittered_boxes(balls, rng, cfg))
-        crops.append(c)
-        targets.append(box_targets(balls, windows))
+        boxes = jittered_boxes(balls, rng, cfg)
+        stretched = rng.random(len(balls)) < cfg.stretch
+        aspects = np.where(stretched, np.exp(rng.uniform(lo, hi, len(balls))), 1.0)
+        for aspect in np.unique(aspects):
+            pick = aspects == aspect
+            c, windows = crop_for_refiner(image, boxes[pick], float(aspect))
+            crops.append(c)
+            targets.append(box_targets(balls[pick], windows))
     return degrade_crops(np.concatenate(crops), rng, cfg.low_res), np.concatenate(targets)
 
 

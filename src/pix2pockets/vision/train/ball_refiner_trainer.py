@@ -44,6 +44,8 @@ class BallRefinerTrainConfig:
         widths: channels of the network's three stages.
         copies: jittered crops per labelled ball and image.
         centre_jitter: standard deviation of the crop centre shift per axis, in ball diameters.
+        stretch: share of the crops cut with a window of another aspect, the ball squashed in them
+            (:class:`~pix2pockets.vision.train.ball_box_data.BallBoxCropConfig`).
     """
 
     data: tuple[str, ...]
@@ -56,6 +58,7 @@ class BallRefinerTrainConfig:
     widths: tuple[int, int, int] = (16, 32, 64)
     copies: int = 3
     centre_jitter: float = BallBoxCropConfig().centre_jitter
+    stretch: float = BallBoxCropConfig().stretch
 
     def __post_init__(self) -> None:
         if not self.data:
@@ -66,6 +69,8 @@ class BallRefinerTrainConfig:
             raise ValueError(f"widths must be three positive channel counts, got {self.widths}")
         if not 0 <= self.centre_jitter <= 0.3:
             raise ValueError(f"centre_jitter must be in [0, 0.3] ball diameters, got {self.centre_jitter}")
+        if not 0 <= self.stretch <= 1:
+            raise ValueError(f"stretch must be a share in [0, 1], got {self.stretch}")
 
 
 def box_loss(out: torch.Tensor, targets: torch.Tensor) -> torch.Tensor:
@@ -120,7 +125,7 @@ def train_ball_refiner(cfg: BallRefinerTrainConfig, progress: bool = True) -> Pa
     torch.manual_seed(cfg.seed)
     out = Path(cfg.out)
     out.mkdir(parents=True, exist_ok=True)
-    crop_cfg = BallBoxCropConfig(copies=cfg.copies, centre_jitter=cfg.centre_jitter)
+    crop_cfg = BallBoxCropConfig(copies=cfg.copies, centre_jitter=cfg.centre_jitter, stretch=cfg.stretch)
     crops, targets = collect_ball_box_crops(
         labelled_sources(cfg.data, "train"), read_image_rgb, cfg.seed, crop_cfg, progress
     )
