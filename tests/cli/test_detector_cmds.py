@@ -224,6 +224,32 @@ def test_train_dot_refiner_tiny_run_and_detect_with_it(toy, tmp_path, capsys):
     assert "centre_jitter" in capsys.readouterr().err and not (tmp_path / "bad").exists()
 
 
+def test_train_ball_refiner_tiny_run_and_detect_with_it(toy, tmp_path, capsys):
+    pytest.importorskip("torch")
+    pytest.importorskip("onnx", reason="ONNX export needs the onnx package (train extra)")
+    out = tmp_path / "ref"
+    args = ["train-ball-refiner", "--data", str(toy), "--epochs", "1", "--copies", "1", "--widths", "4,8,8", "--quiet"]
+    assert main([*args, "--out", str(out), "--stretch", "0.5"]) == 0
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["train_crops"] > 0 and metrics["test"]["crops"] > 0 and metrics["config"]["stretch"] == 0.5
+    assert set(metrics["test"]["after"]) == {"iou_median", "iou_p10", "at_iou_50", "at_iou_75"}
+    image = str(next((toy / "test" / "images").iterdir()))
+    ref = str(out / "ball-refiner.onnx")
+    assert main(["detect", image, "--ball-refiner", ref, "--json", str(tmp_path / "d.json")]) == 0
+    assert json.loads((tmp_path / "d.json").read_text())["ball_refiner"] == ref
+    assert main(["detect", image, "--ball-refiner", "none", "--json", str(tmp_path / "e.json")]) == 0
+    assert json.loads((tmp_path / "e.json").read_text())["ball_refiner"] is None
+    assert main([*args, "--out", str(tmp_path / "bad"), "--stretch", "2"]) == 2
+    assert "stretch" in capsys.readouterr().err and not (tmp_path / "bad").exists()
+
+
+def test_detect_with_a_missing_ball_refiner_is_a_clean_error(toy, tmp_path, capsys):
+    image = str(next((toy / "test" / "images").iterdir()))
+    rc = main(["detect", image, "--ball-refiner", str(tmp_path / "no.onnx"), "--json", str(tmp_path / "d.json")])
+    assert rc != 0 and "ball refiner model not found" in capsys.readouterr().err
+    assert not (tmp_path / "d.json").exists()
+
+
 def test_detect_with_a_missing_dot_refiner_is_a_clean_error(toy, tmp_path, capsys):
     image = str(next((toy / "test" / "images").iterdir()))
     rc = main(["detect", image, "--dot-refiner", str(tmp_path / "no.onnx"), "--json", str(tmp_path / "d.json")])
