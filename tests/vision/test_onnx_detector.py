@@ -51,3 +51,25 @@ def test_input_size_follows_the_photo_up_to_the_maximum():
     assert fixed.long_side(1920) == 640
     with pytest.raises(ValueError, match="max_input_size"):
         OnnxDetectorConfig(max_input_size=1000)
+
+
+@_needs_model
+def test_the_shipped_ball_refiner_tightens_the_ball_boxes_of_renders():
+    pytest.importorskip("pix2pockets.synth")
+    from pix2pockets.vision.ball_refiner import default_ball_refiner_path
+
+    if not default_ball_refiner_path().exists():
+        pytest.skip("no ball refiner committed")
+    with_refiner = OnnxDetector.from_default()
+    assert with_refiner.ball_refiner is not None
+    without = OnnxDetector(default_model_path(), classifier=with_refiner.classifier)
+    refined, raw = [], []
+    for seed in (4243, 4244, 4245):  # pooled: single renders vary either way
+        rend = _render((seed, 0), (960, 540))
+        gt = np.array([b["box_px"] for b in rend.labels["balls"] if b["labelled"] and b["visible_fraction"] > 0.8])
+        for det, ious in ((with_refiner, refined), (without, raw)):
+            balls = det.detect_balls(rend.image)
+            ious.extend(box_iou(gt, balls[balls.confidence > 0.3].boxes).max(axis=1))
+    refined, raw = np.array(refined), np.array(raw)
+    assert refined.mean() > raw.mean() + 0.02
+    assert (refined > 0.75).sum() > (raw > 0.75).sum()
