@@ -15,7 +15,7 @@ from pix2pockets.vision.ball_refiner import (
 )
 from pix2pockets.vision.classes import BALL_IDS
 from pix2pockets.vision.detections import Detections
-from pix2pockets.vision.postprocess import box_iou
+from pix2pockets.vision.postprocess import paired_box_iou
 
 
 def test_outputs_decode_to_photo_pixels_and_targets_invert_them():
@@ -109,7 +109,7 @@ def test_shipped_refiner_moves_jittered_boxes_back_onto_the_balls():
     refined = BallRefiner.from_default().refine(rend.image, dets)
 
     def ious(boxes: np.ndarray) -> np.ndarray:
-        return np.diag(box_iou(boxes, truth))
+        return paired_box_iou(boxes, truth)
 
     assert np.median(ious(refined.boxes)) > max(0.8, np.median(ious(jittered)) + 0.1)
     assert np.array_equal(refined.confidence, dets.confidence) and np.array_equal(refined.class_id, dets.class_id)

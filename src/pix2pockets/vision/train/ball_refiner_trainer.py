@@ -22,7 +22,7 @@ from pix2pockets.vision.ball_refiner import (
     OUTPUT_NAME,
 )
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.postprocess import box_iou
+from pix2pockets.vision.postprocess import paired_box_iou
 from pix2pockets.vision.train.ball_box_data import BallBoxCropConfig, collect_ball_box_crops
 from pix2pockets.vision.train.crop_classifier import CropNet, photometric
 from pix2pockets.vision.train.crop_fit import RawOutputs, fit_crops, flip_rotate, labelled_sources
@@ -83,11 +83,6 @@ def _boxes(t: np.ndarray) -> np.ndarray:
     return np.hstack([t[:, :2] - 0.5 * t[:, 2:], t[:, :2] + 0.5 * t[:, 2:]])
 
 
-def _iou_rows(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """IoU of each row's box pair."""
-    return np.array([box_iou(x[None], y[None])[0, 0] for x, y in zip(a, b, strict=True)])
-
-
 def _held_out(model: CropNet, crops: np.ndarray, targets: np.ndarray) -> dict:
     """IoU of the held-out crops' boxes with their labels before (a square as wide as the jittered box's mean side
     at the crop's middle) and after refinement."""
@@ -99,7 +94,7 @@ def _held_out(model: CropNet, crops: np.ndarray, targets: np.ndarray) -> dict:
     truth = _boxes(targets)
     half = 0.5 / BALL_REFINE_CONTEXT  # a square of the jittered diameter at the crop's middle
     start = np.tile([-half, -half, half, half], (len(targets), 1))
-    before, after = _iou_rows(start, truth), _iou_rows(_boxes(np.concatenate(outs)), truth)
+    before, after = paired_box_iou(start, truth), paired_box_iou(_boxes(np.concatenate(outs)), truth)
     report = {"crops": len(targets)}
     for tag, iou in (("before", before), ("after", after)):
         report[tag] = {

@@ -125,7 +125,7 @@ def image_crops(
     return degrade_crops(np.concatenate(crops), rng, cfg.low_res), np.concatenate(labels).astype(int)
 
 
-PerImageCrops = Callable[[np.ndarray, LabelledImage, "dict[int, int] | None", np.random.Generator], tuple]
+PerImageCrops = Callable[[np.ndarray, LabelledImage, dict[int, int] | None, np.random.Generator], tuple]
 """(image RGB, its labels, class map, randomness) -> (crops (m, S, S, 3) uint8, targets (m, ...))."""
 
 
