@@ -79,3 +79,16 @@ def test_only_split_renders_the_same_images_of_that_split(tmp_path):
         assert (tmp_path / "part" / name).read_bytes() == (tmp_path / "full" / name).read_bytes()
     with pytest.raises(ValueError, match="only_split"):
         write_dataset(tmp_path / "bad", 2, size=SIZE, only_split="tests")
+
+
+def test_layout_mode_forces_every_scene_s_layout(tmp_path):
+    manifest = write_dataset(tmp_path / "racks", 3, seed=5, size=SIZE, layout_mode="rack")
+    assert manifest["layout_mode"] == "rack"
+    for item in manifest["images"]:
+        split, _, name = item["image"].split("/")
+        labels = json.loads((tmp_path / "racks" / split / "meta" / name).with_suffix(".json").read_text())
+        assert labels["layout_mode"] == "rack"
+    with pytest.raises(ValueError, match="layout_mode"):
+        write_dataset(tmp_path / "bad", 2, size=SIZE, layout_mode="triangle")
+    assert main(["synth", "--n", "1", "--out", str(tmp_path / "cli"), "--size", "192x108", "--layout", "endgame"]) == 0
+    assert json.loads((tmp_path / "cli" / "manifest.json").read_text())["layout_mode"] == "endgame"

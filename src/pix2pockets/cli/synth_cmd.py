@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 
+from pix2pockets.synth.layouts import LAYOUT_MODES
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser(
@@ -23,6 +25,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         choices=["train", "valid", "test"],
         default=None,
         help="render only the scenes of this split (the same images the whole dataset holds there)",
+    )
+    parser.add_argument(
+        "--layout",
+        choices=list(LAYOUT_MODES),
+        default=None,
+        help="every scene's ball layout of this kind, e.g. 'rack' (default: drawn per scene as in real games)",
     )
     parser.add_argument("--force", action="store_true", help="overwrite a non-empty output folder")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
@@ -45,6 +53,7 @@ def run(args: argparse.Namespace) -> int:
         force=args.force,
         progress=not args.no_progress,
         only_split=args.only_split,
+        layout_mode=args.layout,
     )
     counts = ", ".join(f"{k} {v}" for k, v in manifest["counts"].items())
     print(f"wrote {sum(manifest['counts'].values())} images to {args.out} ({counts})")

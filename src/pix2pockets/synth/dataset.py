@@ -24,6 +24,7 @@ import cv2
 import numpy as np
 
 from pix2pockets.synth.labels import yolo_lines
+from pix2pockets.synth.layouts import LAYOUT_MODES
 from pix2pockets.synth.renderer import DEFAULT_SIZE, Render, render, render_views
 from pix2pockets.vision.classes import CLASS_NAMES
 
@@ -120,6 +121,7 @@ def write_dataset(
     force: bool = False,
     progress: bool = False,
     only_split: str | None = None,
+    layout_mode: str | None = None,
 ) -> dict:
     """Render ``n`` scenes into a YOLO dataset at ``out_dir``.
 
@@ -134,6 +136,8 @@ def write_dataset(
         progress: show a tqdm progress bar.
         only_split: render only the scenes of this split (``train``, ``valid`` or ``test``): the same images
             as the whole dataset holds there, e.g. a held-out test split without its training scenes.
+        layout_mode: every scene's layout of this mode (``layouts.LAYOUT_MODES``, e.g. ``"rack"``); drawn per
+            scene when None.
 
     Returns:
         The manifest (also written to ``out_dir/manifest.json``).
@@ -149,6 +153,8 @@ def write_dataset(
         raise ValueError(f"split must be three non-negative fractions summing to 1, got {split!r}")
     if only_split is not None and only_split not in SPLITS:
         raise ValueError(f"only_split must be one of {', '.join(SPLITS)}, got {only_split!r}")
+    if layout_mode is not None and layout_mode not in LAYOUT_MODES:
+        raise ValueError(f"layout_mode must be one of {', '.join(LAYOUT_MODES)}, got {layout_mode!r}")
     assignment = split_assignment(n, fractions, seed)
     items = []
     iterator = [i for i in range(n) if only_split is None or assignment[i] == only_split]
@@ -160,12 +166,12 @@ def write_dataset(
         for i in iterator:
             s = assignment[i]
             if views == 1:
-                rend = render((seed, i), size)
+                rend = render((seed, i), size, layout_mode=layout_mode)
                 stem = f"synth_{seed}_{i:06d}"
                 write_sample(tmp, s, stem, rend)
                 items.append({"image": f"{s}/images/{stem}.jpg", "scene": i, "camera": rend.labels["camera"]["kind"]})
             else:
-                for rend in render_views((seed, i), size):
+                for rend in render_views((seed, i), size, layout_mode=layout_mode):
                     stem = f"synth_{seed}_{i:06d}_{rend.labels['view']}"
                     rend.labels["scene_id"] = i
                     write_sample(tmp, s, stem, rend)
@@ -175,6 +181,7 @@ def write_dataset(
             "seed": seed,
             "n_scenes": n,
             "views": views,
+            "layout_mode": layout_mode,
             "size": list(size),
             "split": list(fractions),
             "classes": list(CLASS_NAMES),

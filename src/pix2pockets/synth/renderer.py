@@ -340,11 +340,14 @@ def _spec(rng: np.random.Generator) -> TableSpec:
     return TABLE_PRESETS[keys[int(rng.choice(len(keys), p=p / p.sum()))]]
 
 
-def _scene_and_streams(seed: Seed) -> tuple[Scene, str, np.random.Generator, np.random.Generator]:
-    """The scene of ``seed``, its layout mode, and the camera and effects streams that follow it."""
+def _scene_and_streams(
+    seed: Seed, layout_mode: str | None = None
+) -> tuple[Scene, str, np.random.Generator, np.random.Generator]:
+    """The scene of ``seed`` (its layout of mode ``layout_mode``, random when None), that mode, and the camera and
+    effects streams that follow it."""
     r_layout, r_scene, r_cam, r_fx = _streams(seed, 4)
     spec = _spec(r_layout)
-    layout, mode = sample_layout(r_layout, spec)
+    layout, mode = sample_layout(r_layout, spec, layout_mode)
     return sample_scene(r_scene, layout), mode, r_cam, r_fx
 
 
@@ -353,15 +356,18 @@ def scene_of(seed: Seed) -> Scene:
     return _scene_and_streams(seed)[0]
 
 
-def render(seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, camera_kind: str | None = None) -> Render:
+def render(
+    seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, camera_kind: str | None = None, layout_mode: str | None = None
+) -> Render:
     """Render the sample of ``seed`` (same seed -> identical pixels and labels).
 
     Args:
         seed: non-negative int or sequence of ints (e.g. ``(dataset_seed, index)``).
         size: (width, height) [px].
         camera_kind: force a camera kind (see ``cameras.CAMERA_KINDS``); random when ``None``.
+        layout_mode: force a layout mode (see ``layouts.LAYOUT_MODES``, e.g. ``"rack"``); random when ``None``.
     """
-    scene, mode, r_cam, r_fx = _scene_and_streams(seed)
+    scene, mode, r_cam, r_fx = _scene_and_streams(seed, layout_mode)
     cam, kind = sample_camera(r_cam, scene.spec, size, camera_kind, scene.floor_z, scene.rail_width)
     if r_cam.random() < STRETCH_PROBABILITY:
         cam = stretch_pixels(cam, float(np.exp(r_cam.uniform(np.log(0.75), np.log(1.33)))))
@@ -385,10 +391,16 @@ def render_sample(
     return out.image, out.labels
 
 
-def render_views(seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, views: Sequence[str] = VIEW_KINDS) -> list[Render]:
-    """One layout and scene seen from several cameras (default top, ~45 degrees, front) for the
-    view-to-view projection-error experiment. Effects are lighter than in single views."""
-    scene, mode, r_cam, r_fx = _scene_and_streams(seed)
+def render_views(
+    seed: Seed,
+    size: tuple[int, int] = DEFAULT_SIZE,
+    views: Sequence[str] = VIEW_KINDS,
+    layout_mode: str | None = None,
+) -> list[Render]:
+    """One layout (of mode ``layout_mode``, random when None) and scene seen from several cameras (default top,
+    ~45 degrees, front) for the view-to-view projection-error experiment. Effects are lighter than in single
+    views."""
+    scene, mode, r_cam, r_fx = _scene_and_streams(seed, layout_mode)
     out = []
     for view in views:
         cam, kind = sample_camera(r_cam, scene.spec, size, view, scene.floor_z, scene.rail_width, crop=False)
