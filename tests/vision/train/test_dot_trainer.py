@@ -8,11 +8,11 @@ torch = pytest.importorskip("torch")
 
 from pix2pockets.vision.dot_refiner import DOT_CROP_SIZE, DotRefiner  # noqa: E402
 from pix2pockets.vision.train.crop_classifier import CropNet  # noqa: E402
+from pix2pockets.vision.train.crop_fit import flip_rotate  # noqa: E402
 from pix2pockets.vision.train.dot_trainer import (  # noqa: E402
     DotTrainConfig,
     centre_loss,
     export_dot_refiner,
-    flip_rotate,
 )
 
 S = DOT_CROP_SIZE

@@ -21,7 +21,7 @@ from pix2pockets.vision.ball_classifier import OUTPUT_NAME
 from pix2pockets.vision.ball_crops import CROP_SIZE
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.train.crop_data import CROP_LABELS, CropConfig, collect_crops
-from pix2pockets.vision.train.crop_fit import fit_crops, labelled_sources
+from pix2pockets.vision.train.crop_fit import fit_crops, labelled_sources, predict_crops
 from pix2pockets.vision.train.onnx_export import write_onnx
 from pix2pockets.vision.yolo_data import load_splits
 
@@ -177,12 +177,8 @@ def photometric(x: torch.Tensor, gen: torch.Generator) -> torch.Tensor:
 def _confusion(model: CropNet, crops: np.ndarray, labels: np.ndarray) -> np.ndarray:
     k = len(CROP_LABELS)
     conf = np.zeros((k, k), dtype=int)
-    model.eval()
-    with torch.no_grad():
-        for i in range(0, len(crops), 1024):
-            x = torch.from_numpy(crops[i : i + 1024]).permute(0, 3, 1, 2).float()
-            pred = model(x).argmax(1).numpy()
-            np.add.at(conf, (labels[i : i + 1024], pred), 1)
+    if len(crops):
+        np.add.at(conf, (labels, predict_crops(model, crops).argmax(1)), 1)
     return conf
 
 

@@ -103,3 +103,13 @@ def flip_rotate(x: torch.Tensor, targets: torch.Tensor, gen: torch.Generator) ->
             turned += [t[:, 3], t[:, 2]]
         t = torch.stack(turned, dim=1)
     return x, t
+
+
+def predict_crops(model: nn.Module, crops: np.ndarray, chunk: int = 1024) -> np.ndarray:
+    """The network's outputs (N, k) for uint8 crops (N, S, S, 3), in eval mode, `chunk` crops at a time."""
+    model.eval()
+    outs = []
+    with torch.no_grad():
+        for i in range(0, len(crops), chunk):
+            outs.append(model(torch.from_numpy(crops[i : i + chunk]).permute(0, 3, 1, 2).float()).numpy())
+    return np.concatenate(outs) if outs else np.zeros((0, 0), np.float32)

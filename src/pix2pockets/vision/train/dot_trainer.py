@@ -1,13 +1,13 @@
 """Train the diamond refiner (a diamond's centre from a 32 px crop around a detection) and export it to ONNX.
 
 The network is the ball classifier's :class:`~pix2pockets.vision.train.crop_classifier.CropNet` with its grid
-head (which keeps where things sit in the crop) and two outputs, trained with an L1 loss on the centre.
+head (which keeps where things sit in the crop) and two outputs, trained with an L1 loss on the centre
+(the run itself: :func:`~pix2pockets.vision.train.refiner_trainer.train_refiner`).
 """
 
 from __future__ import annotations
 
-import json
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -16,10 +16,15 @@ from torch import nn
 
 from pix2pockets.vision.dot_refiner import DEFAULT_DOT_REFINER, DOT_CROP_SIZE, N_OUTPUTS, OUTPUT_NAME
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.train.crop_classifier import CropNet, photometric
-from pix2pockets.vision.train.crop_fit import RawOutputs, fit_crops, flip_rotate, labelled_sources
 from pix2pockets.vision.train.dot_data import DotCropConfig, collect_dot_crops
-from pix2pockets.vision.train.onnx_export import write_onnx
+from pix2pockets.vision.train.refiner_trainer import (
+    RefinerSpec,
+    check_training_settings,
+    export_refiner,
+    train_refiner,
+)
+
+SPEC = RefinerSpec("diamond refiner", "train-dot-refiner", DOT_CROP_SIZE, N_OUTPUTS, OUTPUT_NAME, DEFAULT_DOT_REFINER)
 
 
 @dataclass(frozen=True, slots=True)
@@ -51,12 +56,7 @@ class DotTrainConfig:
     centre_jitter: float = DotCropConfig().centre_jitter
 
     def __post_init__(self) -> None:
-        if not self.data:
-            raise ValueError("train-dot-refiner needs at least one --data folder")
-        if min(self.epochs, self.batch, self.threads, self.copies) < 1 or not self.lr > 0:
-            raise ValueError("epochs, batch, threads and copies must be >= 1 and lr > 0")
-        if len(self.widths) != 3 or min(self.widths) < 1:
-            raise ValueError(f"widths must be three positive channel counts, got {self.widths}")
+        check_training_settings(self, SPEC)
         if not 0 <= self.centre_jitter <= 2:
             raise ValueError(f"centre_jitter must be in [0, 2] diamond sides, got {self.centre_jitter}")
 
@@ -66,17 +66,11 @@ def centre_loss(out: torch.Tensor, targets: torch.Tensor) -> torch.Tensor:
     return (out - targets).abs().sum(dim=1).mean() * DOT_CROP_SIZE
 
 
-def _held_out(model: CropNet, crops: np.ndarray, targets: np.ndarray) -> dict:
+def _held_out(outputs: np.ndarray, targets: np.ndarray) -> dict:
     """Centre errors of the held-out crops before (the crop's middle) and after refinement [crop sides]."""
-    model.eval()
-    outs = []
-    with torch.no_grad():
-        for i in range(0, len(crops), 1024):
-            outs.append(model(torch.from_numpy(crops[i : i + 1024]).permute(0, 3, 1, 2).float()).numpy())
-    err = np.linalg.norm(np.concatenate(outs) - targets, axis=1)
+    err = np.linalg.norm(outputs - targets, axis=1)
     start = np.linalg.norm(targets, axis=1)
     return {
-        "crops": len(targets),
         "offset_median": round(float(np.median(start)), 5),
         "offset_p90": round(float(np.percentile(start, 90)), 5),
         "error_median": round(float(np.median(err)), 5),
@@ -84,48 +78,16 @@ def _held_out(model: CropNet, crops: np.ndarray, targets: np.ndarray) -> dict:
     }
 
 
-def export_dot_refiner(model: CropNet, path: Path) -> Path:
+def export_dot_refiner(model: nn.Module, path: Path) -> Path:
     """Write the refiner (uint8 NHWC crops in, (N, 2) centres out) as ONNX with a dynamic batch."""
-    example = torch.zeros(2, DOT_CROP_SIZE, DOT_CROP_SIZE, 3, dtype=torch.uint8)
-    axes = {"crops": {0: "n"}, OUTPUT_NAME: {0: "n"}}
-    return write_onnx(RawOutputs(model), example, path, "crops", OUTPUT_NAME, axes)
+    return export_refiner(model, path, SPEC)
 
 
 def train_dot_refiner(cfg: DotTrainConfig, progress: bool = True) -> Path:
     """Collect crops, train, report held-out centre errors in ``metrics.json``, export; returns the ONNX path."""
-
-    torch.set_num_threads(cfg.threads)
-    torch.manual_seed(cfg.seed)
-    out = Path(cfg.out)
-    out.mkdir(parents=True, exist_ok=True)
     crop_cfg = DotCropConfig(copies=cfg.copies, centre_jitter=cfg.centre_jitter)
-    crops, targets = collect_dot_crops(
-        labelled_sources(cfg.data, "train"), read_image_rgb, cfg.seed, crop_cfg, progress
-    )
-    test = labelled_sources(cfg.data, "test")
 
-    model = CropNet(cfg.widths, "grid", DOT_CROP_SIZE, N_OUTPUTS)
+    def collect(sources, seed: int) -> tuple[np.ndarray, np.ndarray]:
+        return collect_dot_crops(sources, read_image_rgb, seed, crop_cfg, progress)
 
-    def batch_loss(net: nn.Module, x: torch.Tensor, t: torch.Tensor, gen: torch.Generator) -> torch.Tensor:
-        x, t = flip_rotate(x, t, gen)
-        return centre_loss(net(photometric(x, gen)), t)
-
-    fit_crops(
-        model,
-        crops,
-        torch.from_numpy(targets),
-        batch_loss,
-        epochs=cfg.epochs,
-        batch=cfg.batch,
-        lr=cfg.lr,
-        seed=cfg.seed,
-        desc="train diamond refiner",
-        progress=progress,
-    )
-
-    metrics = {"config": asdict(cfg), "train_crops": len(targets)}
-    if test:
-        metrics["test"] = _held_out(model, *collect_dot_crops(test, read_image_rgb, cfg.seed + 1, crop_cfg, progress))
-    (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
-    torch.save({"model": model.state_dict(), "config": asdict(cfg)}, out / "last.pt")
-    return export_dot_refiner(model, out / DEFAULT_DOT_REFINER)
+    return train_refiner(cfg, SPEC, collect, centre_loss, _held_out, progress)
