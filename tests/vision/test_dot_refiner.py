@@ -9,8 +9,8 @@ from pix2pockets.vision.dot_refiner import (
     DOT_CROP_SIZE,
     MIN_DOT_CROP_PX,
     DotRefiner,
-    centre_targets,
-    centres_from_outputs,
+    box_targets,
+    boxes_from_outputs,
     crop_dots,
     default_dot_refiner_path,
     dot_crop_sides,
@@ -30,12 +30,12 @@ def test_crop_windows_are_where_the_crops_come_from():
 
 def test_outputs_decode_to_photo_pixels_and_targets_invert_them():
     corners, sides = np.array([[100, 50], [7, 9]]), np.array([16, 20])
-    out = np.array([[0.25, -0.125], [0.0, 0.1]])
-    centres = centres_from_outputs(out, corners, sides)
-    assert np.allclose(centres, [[112, 56], [17, 21]])
-    assert np.allclose(centre_targets(centres, corners, sides), out)
-    wild = centres_from_outputs(np.array([[3.0, -9.0]]), corners[:1], sides[:1])
-    assert np.allclose(wild, [[116, 50]])  # held at the crop's edge
+    out = np.array([[0.25, -0.125, 0.5, 0.25], [0.0, 0.1, 0.3, 0.4]])
+    boxes = boxes_from_outputs(out, corners, sides)
+    assert np.allclose(boxes, [[108, 54, 116, 58], [14, 17, 20, 25]])
+    assert np.allclose(box_targets(boxes, corners, sides), out)
+    wild = boxes_from_outputs(np.array([[3.0, -9.0, 0.01, 5.0]]), corners[:1], sides[:1])
+    assert np.allclose(wild, [[114, 42, 118, 58]])  # centre held at the crop's edge, sides between 4 px and 16 px
 
 
 def test_crop_sides_follow_the_box_with_a_floor():
@@ -60,6 +60,7 @@ def test_shipped_refiner_moves_shifted_boxes_back_onto_the_diamonds():
     pytest.importorskip("pix2pockets.synth")
     from pix2pockets.synth.renderer import render
     from pix2pockets.vision.classes import DOT_ID
+    from pix2pockets.vision.postprocess import paired_box_iou
 
     rend = render((5155, 0), (960, 540))
     truth = np.array([d["box_px"] for d in rend.labels["diamonds"] if d["labelled"]], float)
@@ -73,7 +74,8 @@ def test_shipped_refiner_moves_shifted_boxes_back_onto_the_diamonds():
         return np.linalg.norm((boxes[:, :2] + boxes[:, 2:] - truth[:, :2] - truth[:, 2:]) / 2, axis=1)
 
     assert np.median(centre_error(refined.boxes)) < 0.5 * np.median(centre_error(shifted))
-    assert np.allclose(refined.boxes[:, 2:] - refined.boxes[:, :2], shifted[:, 2:] - shifted[:, :2])
+    assert np.median(paired_box_iou(refined.boxes, truth)) > np.median(paired_box_iou(shifted, truth))
+    assert np.all(refined.boxes[:, 2:] - refined.boxes[:, :2] >= 4.0 - 1e-9)  # the labels' floor
     assert np.array_equal(refined.confidence, dots.confidence)
     faint = Detections(shifted, np.full(len(truth), 0.1), np.full(len(truth), DOT_ID))
     assert np.array_equal(DotRefiner.from_default().refine(rend.image, faint).boxes, shifted)  # below min_score

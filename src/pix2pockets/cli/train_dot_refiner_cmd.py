@@ -10,10 +10,10 @@ from pix2pockets.cli.crop_training_options import add_crop_training_options, cro
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser(
         "train-dot-refiner",
-        help="train the diamond refiner (a diamond's centre from a crop) and export ONNX ('train' extra)",
+        help="train the diamond refiner (a diamond's box from a crop) and export ONNX ('train' extra)",
         description="Cut 32 px crops around every labelled diamond, shifted and scaled as the detector's would be, "
-        "from YOLO datasets, train a small CNN to find the diamond's centre and write OUT/dot-refiner.onnx and "
-        "OUT/metrics.json (centre errors on the datasets' test splits).",
+        "from YOLO datasets, train a small CNN to find the diamond's centre and box and write OUT/dot-refiner.onnx "
+        "and OUT/metrics.json (centre errors and box IoUs on the datasets' test splits).",
     )
     add_crop_training_options(
         parser,

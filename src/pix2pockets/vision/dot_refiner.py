@@ -1,10 +1,10 @@
-"""The second-stage diamond refiner run through onnxruntime: re-reads each diamond's centre from the photo.
+"""The second-stage diamond refiner run through onnxruntime: re-reads each diamond's box from the photo.
 
-The detector finds diamonds on a stride-4 grid. A diamond box is only 4-6 px wide, so a centre off by one pixel
-fails IoU 0.5, and the table fit draws its lines through these centres. The refiner looks at a crop of the
-full-resolution photo around each detected diamond and returns the diamond's centre to a fraction of a pixel.
-It only moves boxes: scores, sizes and the set of detections stay the detector's
-(``docs/detector.md``, "Diamond refiner").
+The detector finds diamonds on a stride-4 grid. A diamond box is only 4-8 px wide, so a centre off by one pixel
+or a side off by two fails IoU 0.5, and the table fit draws its lines through these centres. The refiner looks at
+a crop of the full-resolution photo around each detected diamond and returns the diamond's centre to a fraction of
+a pixel and its box (a sight seen at a slant is wider than tall). It only moves and resizes boxes: scores and the
+set of detections stay the detector's (``docs/detector.md``, "Diamond refiner").
 
 Example:
     >>> refiner = DotRefiner.from_default()  # doctest: +SKIP
@@ -19,6 +19,7 @@ from pathlib import Path
 import numpy as np
 
 from pix2pockets.vision.ball_crops import crop_balls, crop_windows
+from pix2pockets.vision.classes import MIN_DOT_BOX_PX
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.onnx_session import open_crop_model
 
@@ -29,9 +30,10 @@ DOT_CROP_CONTEXT = 4.0
 """Crop side over the detected diamond's box side."""
 MIN_DOT_CROP_PX = 16.0
 """Smallest crop side in the photo [px] (a 4 px diamond plus room for the detector's centre error)."""
-N_OUTPUTS = 2
-"""Refiner outputs per crop: the diamond's centre x and y, as fractions of the crop side from its middle."""
-OUTPUT_NAME = "centre"
+N_OUTPUTS = 4
+"""Refiner outputs per crop: the diamond's centre x and y, as fractions of the crop side from its middle, then
+its box's width and height as fractions of the crop side."""
+OUTPUT_NAME = "dot_box"
 """Name of the refiner's ONNX output."""
 REFINE_MIN_SCORE = 0.15
 """Diamonds the detector scores below this keep their box: refining them too changed no AP on the test
@@ -58,23 +60,30 @@ def crop_dots(image: np.ndarray, centres: np.ndarray, sides: np.ndarray) -> tupl
     return crop_balls(image, centres, sides, DOT_CROP_SIZE, 1.0), corners, windows
 
 
-def centres_from_outputs(out: np.ndarray, corners: np.ndarray, sides: np.ndarray) -> np.ndarray:
-    """Diamond centres (n, 2) [px] from refiner outputs (n, 2) and the crop windows they were read from; an
-    output beyond the crop's edge (never seen in training) is held at the edge."""
-    out = np.clip(np.asarray(out, dtype=float).reshape(-1, N_OUTPUTS), -0.5, 0.5)
+def boxes_from_outputs(out: np.ndarray, corners: np.ndarray, sides: np.ndarray) -> np.ndarray:
+    """Diamond boxes xyxy (n, 4) [px] from refiner outputs (n, 4) and the crop windows they were read from.
+
+    A centre beyond the crop's edge (never seen in training) is held at the edge; each side is at least
+    :data:`~pix2pockets.vision.classes.MIN_DOT_BOX_PX` (the labels' floor) and at most the crop's side.
+    """
+    out = np.asarray(out, dtype=float).reshape(-1, N_OUTPUTS)
     side = np.asarray(sides, dtype=float)[:, None]
-    return np.asarray(corners, dtype=float) + side * (0.5 + out)
+    centre = np.asarray(corners, dtype=float) + side * (0.5 + np.clip(out[:, :2], -0.5, 0.5))
+    size = np.maximum(side * np.clip(out[:, 2:], 0.0, 1.0), MIN_DOT_BOX_PX)
+    return np.hstack([centre - 0.5 * size, centre + 0.5 * size])
 
 
-def centre_targets(centres: np.ndarray, corners: np.ndarray, sides: np.ndarray) -> np.ndarray:
-    """Refiner targets (n, 2) for diamond centres (n, 2) [px] seen in crop windows; inverse of
-    :func:`centres_from_outputs`."""
+def box_targets(boxes: np.ndarray, corners: np.ndarray, sides: np.ndarray) -> np.ndarray:
+    """Refiner targets (n, 4) for labelled diamond boxes xyxy (n, 4) [px] seen in crop windows; the inverse of
+    :func:`boxes_from_outputs` (above the size floor)."""
+    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
     side = np.asarray(sides, dtype=float)[:, None]
-    return (np.asarray(centres, dtype=float).reshape(-1, 2) - corners) / side - 0.5
+    centre = 0.5 * (boxes[:, :2] + boxes[:, 2:])
+    return np.hstack([(centre - corners) / side - 0.5, (boxes[:, 2:] - boxes[:, :2]) / side])
 
 
 class DotRefiner:
-    """Refines the centres of diamond detections from crops of the original photo.
+    """Refines the boxes of diamond detections from crops of the original photo.
 
     Args:
         model_path: the ``.onnx`` file written by ``pix2pockets train-dot-refiner``.
@@ -95,21 +104,19 @@ class DotRefiner:
         """The refiner shipped with the package."""
         return cls(default_dot_refiner_path(), threads)
 
-    def centres(self, image_rgb: np.ndarray, boxes: np.ndarray) -> np.ndarray:
-        """Refined centres (n, 2) [px] of detected diamond boxes (n, 4) [px] in an RGB uint8 photo."""
+    def boxes(self, image_rgb: np.ndarray, boxes: np.ndarray) -> np.ndarray:
+        """Refined boxes (n, 4) [px] of detected diamond boxes (n, 4) [px] in an RGB uint8 photo."""
         boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
         if len(boxes) == 0:
-            return np.zeros((0, 2))
+            return np.zeros((0, 4))
         crops, corners, sides = crop_dots(image_rgb, 0.5 * (boxes[:, :2] + boxes[:, 2:]), dot_crop_sides(boxes))
-        return centres_from_outputs(self.session.run(None, {self.input_name: crops})[0], corners, sides)
+        return boxes_from_outputs(self.session.run(None, {self.input_name: crops})[0], corners, sides)
 
     def refine(self, image_rgb: np.ndarray, dots: Detections, min_score: float = REFINE_MIN_SCORE) -> Detections:
-        """The diamond detections with each box scoring at least `min_score` moved to its refined centre (same
-        size, clipped to the image); the others, and every score, unchanged."""
+        """The diamond detections scoring at least `min_score` with refined boxes (clipped to the image); the
+        others, and every score, unchanged."""
         todo = dots.confidence >= min_score
         boxes = dots.boxes.copy()
-        centre = self.centres(image_rgb, boxes[todo])
-        half = 0.5 * (boxes[todo, 2:] - boxes[todo, :2])
         h, w = image_rgb.shape[:2]
-        boxes[todo] = np.clip(np.hstack([centre - half, centre + half]), 0, [w, h, w, h])
+        boxes[todo] = np.clip(self.boxes(image_rgb, boxes[todo]), 0, [w, h, w, h])
         return Detections(boxes, dots.confidence, dots.class_id, dots.contact, dots.own_score)

@@ -30,12 +30,13 @@ def test_each_diamond_gives_shifted_crops_whose_target_is_the_bright_square():
     crops, targets = image_dot_crops(
         _image_with_dots(DOTS), _item([*DOTS, [10, 10, 30, 30]], [4, 4, 4, 2]), IDENTITY, np.random.default_rng(0), cfg
     )
-    assert crops.shape == (6, DOT_CROP_SIZE, DOT_CROP_SIZE, 3) and targets.shape == (6, 2)
+    assert crops.shape == (6, DOT_CROP_SIZE, DOT_CROP_SIZE, 3) and targets.shape == (6, 4)
     for crop, t in zip(crops, targets, strict=True):
-        cx, cy = (t + 0.5) * DOT_CROP_SIZE
+        cx, cy = (t[:2] + 0.5) * DOT_CROP_SIZE
         assert crop[int(cy), int(cx), 0] > 200  # the target falls on the diamond
-        assert np.all(np.abs(t) <= 0.6 * 4 / 16 + 0.05)  # shifted by at most 0.6 box sides (+ rounding)
-    assert np.abs(targets).max() > 0.02  # and shifted at all
+        assert np.all(np.abs(t[:2]) <= 0.6 * 4 / 16 + 0.05)  # shifted by at most 0.6 box sides (+ rounding)
+        assert np.allclose(t[2:], t[2]) and 4 / (16 * 1.3) - 1e-6 <= t[2] <= 4 / (16 * 0.85) + 1e-6  # 4 px box
+    assert np.abs(targets[:, :2]).max() > 0.02  # and shifted at all
 
 
 def test_images_without_diamonds_give_nothing_and_same_seed_same_crops():

@@ -26,7 +26,9 @@ from pix2pockets.vision.postprocess import paired_box_iou
 from pix2pockets.vision.train.ball_box_data import BallBoxCropConfig, collect_ball_box_crops
 from pix2pockets.vision.train.refiner_trainer import (
     RefinerSpec,
+    centre_size_boxes,
     check_training_settings,
+    crop_l1_loss,
     export_refiner,
     train_refiner,
 )
@@ -77,22 +79,18 @@ class BallRefinerTrainConfig:
 
 def box_loss(out: torch.Tensor, targets: torch.Tensor) -> torch.Tensor:
     """Mean L1 distance between predicted and true boxes (centre x, y, width, height), in crop pixels."""
-    return (out - targets).abs().sum(dim=1).mean() * BALL_REFINE_CROP_SIZE
-
-
-def _boxes(t: np.ndarray) -> np.ndarray:
-    """xyxy boxes in crop-side units from targets (n, 4)."""
-    return np.hstack([t[:, :2] - 0.5 * t[:, 2:], t[:, :2] + 0.5 * t[:, 2:]])
+    return crop_l1_loss(out, targets, BALL_REFINE_CROP_SIZE)
 
 
 def _held_out(outputs: np.ndarray, targets: np.ndarray) -> dict:
     """IoU of the held-out crops' boxes with their labels before (a square as wide as the jittered box's mean side
     at the crop's middle) and after refinement."""
-    truth = _boxes(targets)
+    truth = centre_size_boxes(targets)
     half = 0.5 / BALL_REFINE_CONTEXT  # a square of the jittered diameter at the crop's middle
     start = np.tile([-half, -half, half, half], (len(targets), 1))
     report = {}
-    for tag, iou in (("before", paired_box_iou(start, truth)), ("after", paired_box_iou(_boxes(outputs), truth))):
+    after = paired_box_iou(centre_size_boxes(outputs), truth)
+    for tag, iou in (("before", paired_box_iou(start, truth)), ("after", after)):
         report[tag] = {
             "iou_median": round(float(np.median(iou)), 4),
             "iou_p10": round(float(np.percentile(iou, 10)), 4),

@@ -2,7 +2,7 @@
 (numpy and OpenCV only).
 
 Each labelled diamond gives crops whose centre is shifted and whose side is scaled as the detector's box would
-be; the target is where the diamond's centre really lies in the crop.
+be; the target is where the diamond's labelled box really lies in the crop.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pix2pockets.vision.classes import DOT_ID
-from pix2pockets.vision.dot_refiner import DOT_CROP_SIZE, centre_targets, crop_dots, dot_crop_sides
+from pix2pockets.vision.dot_refiner import DOT_CROP_SIZE, box_targets, crop_dots, dot_crop_sides
 from pix2pockets.vision.train.crop_data import collect_from_images, degrade_crops
 from pix2pockets.vision.yolo_data import LabelledImage
 
@@ -39,7 +39,7 @@ class DotCropConfig:
 def image_dot_crops(
     image: np.ndarray, item: LabelledImage, class_map: dict[int, int], rng: np.random.Generator, cfg: DotCropConfig
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Crops (m, S, S, 3) uint8 and centre targets (m, 2) from one labelled image (none without diamonds).
+    """Crops (m, S, S, 3) uint8 and box targets (m, 4) from one labelled image (none without diamonds).
 
     Args:
         image: the RGB image of `item`.
@@ -51,7 +51,7 @@ def image_dot_crops(
     cls = np.array([class_map.get(int(c), -1) for c in item.class_id], dtype=int)
     dots = item.boxes.reshape(-1, 4)[cls == DOT_ID]
     if len(dots) == 0 or cfg.copies == 0:
-        return np.empty((0, DOT_CROP_SIZE, DOT_CROP_SIZE, 3), np.uint8), np.empty((0, 2))
+        return np.empty((0, DOT_CROP_SIZE, DOT_CROP_SIZE, 3), np.uint8), np.empty((0, 4))
     centres = 0.5 * (dots[:, :2] + dots[:, 2:])
     box_side = 0.5 * ((dots[:, 2] - dots[:, 0]) + (dots[:, 3] - dots[:, 1]))
     crops, targets = [], []
@@ -60,7 +60,7 @@ def image_dot_crops(
         sides = dot_crop_sides(dots) * rng.uniform(*cfg.side_jitter, size=len(dots))
         c, corners, windows = crop_dots(image, centres + shift, sides)
         crops.append(c)
-        targets.append(centre_targets(centres, corners, windows))
+        targets.append(box_targets(dots, corners, windows))
     return degrade_crops(np.concatenate(crops), rng, cfg.low_res), np.concatenate(targets)
 
 

@@ -1,4 +1,4 @@
-"""The training run the crop refiners share (diamond centres, ball boxes): collect crops, train the classifier's
+"""The training run the crop refiners share (diamond boxes, ball boxes): collect crops, train the classifier's
 :class:`~pix2pockets.vision.train.crop_classifier.CropNet` (grid head) with flips, quarter turns and photometric
 noise, report held-out errors in ``metrics.json``, save ``last.pt`` and export ONNX."""
 
@@ -21,6 +21,16 @@ from pix2pockets.vision.yolo_data import LabelledImage
 Sources = Sequence[tuple[LabelledImage, dict[int, int]]]
 CollectCrops = Callable[[Sources, int], tuple[np.ndarray, np.ndarray]]
 """(labelled images, seed) -> (uint8 crops (N, S, S, 3), float32 targets (N, k))."""
+
+
+def crop_l1_loss(out: torch.Tensor, targets: torch.Tensor, crop_size: int) -> torch.Tensor:
+    """Mean L1 distance between predicted and true outputs given as fractions of the crop side, in crop pixels."""
+    return (out - targets).abs().sum(dim=1).mean() * crop_size
+
+
+def centre_size_boxes(t: np.ndarray) -> np.ndarray:
+    """xyxy boxes from (centre x, centre y, width, height) rows (n, 4), in the same units."""
+    return np.hstack([t[:, :2] - 0.5 * t[:, 2:], t[:, :2] + 0.5 * t[:, 2:]])
 
 
 @dataclass(frozen=True, slots=True)
