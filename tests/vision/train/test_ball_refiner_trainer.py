@@ -9,11 +9,11 @@ torch = pytest.importorskip("torch")
 from pix2pockets.vision.ball_refiner import BALL_REFINE_CROP_SIZE, BallRefiner  # noqa: E402
 from pix2pockets.vision.train.ball_refiner_trainer import (  # noqa: E402
     BallRefinerTrainConfig,
-    box_loss,
     export_ball_refiner,
 )
 from pix2pockets.vision.train.crop_classifier import CropNet  # noqa: E402
 from pix2pockets.vision.train.crop_fit import flip_rotate  # noqa: E402
+from pix2pockets.vision.train.refiner_trainer import box_loss  # noqa: E402
 
 S = BALL_REFINE_CROP_SIZE
 
@@ -46,7 +46,7 @@ def test_the_loss_teaches_a_network_where_the_ball_is():
     net = CropNet((4, 8, 8), "grid", S, 4)
     opt = torch.optim.Adam(net.parameters(), lr=1e-2)
     for _ in range(200):
-        loss = box_loss(net(x), t)
+        loss = box_loss(net(x), t, S)
         opt.zero_grad()
         loss.backward()
         opt.step()

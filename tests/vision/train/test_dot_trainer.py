@@ -11,9 +11,9 @@ from pix2pockets.vision.train.crop_classifier import CropNet  # noqa: E402
 from pix2pockets.vision.train.crop_fit import flip_rotate  # noqa: E402
 from pix2pockets.vision.train.dot_trainer import (  # noqa: E402
     DotTrainConfig,
-    box_loss,
     export_dot_refiner,
 )
+from pix2pockets.vision.train.refiner_trainer import box_loss  # noqa: E402
 
 S = DOT_CROP_SIZE
 
@@ -54,7 +54,7 @@ def test_the_loss_teaches_a_network_where_the_diamond_is_and_how_wide():
     net = CropNet((4, 8, 8), "grid", S, 4)
     opt = torch.optim.Adam(net.parameters(), lr=1e-2)
     for _ in range(300):
-        loss = box_loss(net(x), t)
+        loss = box_loss(net(x), t, S)
         opt.zero_grad()
         loss.backward()
         opt.step()

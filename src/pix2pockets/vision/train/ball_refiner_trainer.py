@@ -2,7 +2,7 @@
 
 The network is the ball classifier's :class:`~pix2pockets.vision.train.crop_classifier.CropNet` with its grid
 head (which keeps where things sit in the crop) and four outputs, trained with an L1 loss on the box
-(the run itself: :func:`~pix2pockets.vision.train.refiner_trainer.train_refiner`).
+(the run and its held-out report: :func:`~pix2pockets.vision.train.refiner_trainer.train_refiner`).
 """
 
 from __future__ import annotations
@@ -11,30 +11,25 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import torch
 from torch import nn
 
 from pix2pockets.vision.ball_refiner import (
     BALL_REFINE_CONTEXT,
     BALL_REFINE_CROP_SIZE,
     DEFAULT_BALL_REFINER,
-    N_OUTPUTS,
     OUTPUT_NAME,
 )
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.postprocess import paired_box_iou
 from pix2pockets.vision.train.ball_box_data import BallBoxCropConfig, collect_ball_box_crops
 from pix2pockets.vision.train.refiner_trainer import (
     RefinerSpec,
-    centre_size_boxes,
     check_training_settings,
-    crop_l1_loss,
     export_refiner,
     train_refiner,
 )
 
 SPEC = RefinerSpec(
-    "ball refiner", "train-ball-refiner", BALL_REFINE_CROP_SIZE, N_OUTPUTS, OUTPUT_NAME, DEFAULT_BALL_REFINER
+    "ball refiner", "train-ball-refiner", BALL_REFINE_CROP_SIZE, BALL_REFINE_CONTEXT, OUTPUT_NAME, DEFAULT_BALL_REFINER
 )
 
 
@@ -77,29 +72,6 @@ class BallRefinerTrainConfig:
             raise ValueError(f"stretch must be a share in [0, 1], got {self.stretch}")
 
 
-def box_loss(out: torch.Tensor, targets: torch.Tensor) -> torch.Tensor:
-    """Mean L1 distance between predicted and true boxes (centre x, y, width, height), in crop pixels."""
-    return crop_l1_loss(out, targets, BALL_REFINE_CROP_SIZE)
-
-
-def _held_out(outputs: np.ndarray, targets: np.ndarray) -> dict:
-    """IoU of the held-out crops' boxes with their labels before (a square as wide as the jittered box's mean side
-    at the crop's middle) and after refinement."""
-    truth = centre_size_boxes(targets)
-    half = 0.5 / BALL_REFINE_CONTEXT  # a square of the jittered diameter at the crop's middle
-    start = np.tile([-half, -half, half, half], (len(targets), 1))
-    report = {}
-    after = paired_box_iou(centre_size_boxes(outputs), truth)
-    for tag, iou in (("before", paired_box_iou(start, truth)), ("after", after)):
-        report[tag] = {
-            "iou_median": round(float(np.median(iou)), 4),
-            "iou_p10": round(float(np.percentile(iou, 10)), 4),
-            "at_iou_50": round(float(np.mean(iou >= 0.5)), 4),
-            "at_iou_75": round(float(np.mean(iou >= 0.75)), 4),
-        }
-    return report
-
-
 def export_ball_refiner(model: nn.Module, path: Path) -> Path:
     """Write the refiner (uint8 NHWC crops in, (N, 4) boxes out) as ONNX with a dynamic batch."""
     return export_refiner(model, path, SPEC)
@@ -112,4 +84,4 @@ def train_ball_refiner(cfg: BallRefinerTrainConfig, progress: bool = True) -> Pa
     def collect(sources, seed: int) -> tuple[np.ndarray, np.ndarray]:
         return collect_ball_box_crops(sources, read_image_rgb, seed, crop_cfg, progress)
 
-    return train_refiner(cfg, SPEC, collect, box_loss, _held_out, progress)
+    return train_refiner(cfg, SPEC, collect, progress)

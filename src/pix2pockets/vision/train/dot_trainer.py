@@ -2,7 +2,7 @@
 
 The network is the ball classifier's :class:`~pix2pockets.vision.train.crop_classifier.CropNet` with its grid
 head (which keeps where things sit in the crop) and four outputs, trained with an L1 loss on the box
-(the run itself: :func:`~pix2pockets.vision.train.refiner_trainer.train_refiner`).
+(the run and its held-out report: :func:`~pix2pockets.vision.train.refiner_trainer.train_refiner`).
 """
 
 from __future__ import annotations
@@ -11,29 +11,26 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
-import torch
 from torch import nn
 
 from pix2pockets.vision.dot_refiner import (
     DEFAULT_DOT_REFINER,
     DOT_CROP_CONTEXT,
     DOT_CROP_SIZE,
-    N_OUTPUTS,
     OUTPUT_NAME,
 )
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.postprocess import paired_box_iou
 from pix2pockets.vision.train.dot_data import DotCropConfig, collect_dot_crops
 from pix2pockets.vision.train.refiner_trainer import (
     RefinerSpec,
-    centre_size_boxes,
     check_training_settings,
-    crop_l1_loss,
     export_refiner,
     train_refiner,
 )
 
-SPEC = RefinerSpec("diamond refiner", "train-dot-refiner", DOT_CROP_SIZE, N_OUTPUTS, OUTPUT_NAME, DEFAULT_DOT_REFINER)
+SPEC = RefinerSpec(
+    "diamond refiner", "train-dot-refiner", DOT_CROP_SIZE, DOT_CROP_CONTEXT, OUTPUT_NAME, DEFAULT_DOT_REFINER
+)
 
 
 @dataclass(frozen=True, slots=True)
@@ -70,31 +67,6 @@ class DotTrainConfig:
             raise ValueError(f"centre_jitter must be in [0, 2] diamond sides, got {self.centre_jitter}")
 
 
-def box_loss(out: torch.Tensor, targets: torch.Tensor) -> torch.Tensor:
-    """Mean L1 distance between predicted and true boxes (centre x, y, width, height), in crop pixels."""
-    return crop_l1_loss(out, targets, DOT_CROP_SIZE)
-
-
-def _held_out(outputs: np.ndarray, targets: np.ndarray) -> dict:
-    """Centre errors of the held-out crops before (the crop's middle) and after refinement [crop sides], and the
-    box IoU with the label after refinement and before (a square of the crop's box side at its middle)."""
-    err = np.linalg.norm(outputs[:, :2] - targets[:, :2], axis=1)
-    start = np.linalg.norm(targets[:, :2], axis=1)
-    half = 0.5 / DOT_CROP_CONTEXT
-    before = paired_box_iou(np.tile([-half, -half, half, half], (len(targets), 1)), centre_size_boxes(targets))
-    after = paired_box_iou(centre_size_boxes(outputs), centre_size_boxes(targets))
-    return {
-        "offset_median": round(float(np.median(start)), 5),
-        "offset_p90": round(float(np.percentile(start, 90)), 5),
-        "error_median": round(float(np.median(err)), 5),
-        "error_p90": round(float(np.percentile(err, 90)), 5),
-        "iou_median_before": round(float(np.median(before)), 4),
-        "iou_median_after": round(float(np.median(after)), 4),
-        "at_iou_50_before": round(float(np.mean(before >= 0.5)), 4),
-        "at_iou_50_after": round(float(np.mean(after >= 0.5)), 4),
-    }
-
-
 def export_dot_refiner(model: nn.Module, path: Path) -> Path:
     """Write the refiner (uint8 NHWC crops in, (N, 4) boxes out) as ONNX with a dynamic batch."""
     return export_refiner(model, path, SPEC)
@@ -108,4 +80,4 @@ def train_dot_refiner(cfg: DotTrainConfig, progress: bool = True) -> Path:
     def collect(sources, seed: int) -> tuple[np.ndarray, np.ndarray]:
         return collect_dot_crops(sources, read_image_rgb, seed, crop_cfg, progress)
 
-    return train_refiner(cfg, SPEC, collect, box_loss, _held_out, progress)
+    return train_refiner(cfg, SPEC, collect, progress)
