@@ -3,7 +3,12 @@
 import numpy as np
 import pytest
 
-from pix2pockets.vision.ball_classifier import BallClassifier, classified_balls, default_classifier_path
+from pix2pockets.vision.ball_classifier import (
+    IN_VIEW_ABSENT_ODDS,
+    BallClassifier,
+    classified_balls,
+    default_classifier_path,
+)
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.postprocess import postprocess
 
@@ -18,8 +23,10 @@ def test_one_entry_per_ball_and_class_scored_by_both_stages():
     probs = np.array([[0.7, 0.0, 0.0, 0.2, 0.1]])
     det = classified_balls(_balls(1), heat, probs, conf_threshold=0.01)
     assert sorted(det.class_id.tolist()) == [0, 3]  # black and solid score 0
-    cue = det.confidence[det.class_id == 0][0]
-    assert cue == pytest.approx(0.9 * np.sqrt(0.7 * 0.8))
+    own = det.own_score[det.class_id == 0][0]
+    assert own == pytest.approx(0.9 * np.sqrt(0.7 * 0.8))
+    odds = own / (1 - own)  # a lone cue ball: the cue ball is usually in view, so a little above its own score
+    assert det.confidence[det.class_id == 0][0] == pytest.approx(odds / (IN_VIEW_ABSENT_ODDS + odds))
     assert np.all(det.contact == [[20.0, 30.0], [20.0, 30.0]])
     assert postprocess(det).class_id.tolist() == [0]
 
@@ -39,7 +46,7 @@ def test_two_cue_like_balls_share_the_cue_and_keep_their_own_scores():
     cue = det.class_id == 0
     alone = classified_balls(_balls(1), heat[:1], probs[:1], conf_threshold=0.01)
     own = 0.9 * 0.9
-    assert alone.confidence[alone.class_id == 0][0] == pytest.approx(own)  # no rival, nothing else in view
+    assert own < alone.confidence[alone.class_id == 0][0] < 1  # no rival: the cue ball is usually in view
     assert np.all(det.own_score[cue][:2] == pytest.approx(own))
     assert det.confidence[cue][0] == pytest.approx(det.confidence[cue][1])
     assert np.all(det.confidence[cue][:2] < 0.6 * own)  # the two rivals share it

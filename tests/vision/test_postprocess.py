@@ -140,6 +140,15 @@ def test_at_most_one_posterior_keeps_a_lone_ball_and_splits_between_rivals():
     assert len(at_most_one_posterior(np.zeros(0))) == 0
 
 
+def test_at_most_one_posterior_absent_odds_weighs_the_not_in_view_case():
+    lone = np.array([0.6, 0.01])
+    usually_there = at_most_one_posterior(lone, absent_odds=0.25)
+    assert usually_there[0] > 0.8 > at_most_one_posterior(lone)[0]
+    assert usually_there.sum() < 1  # some chance stays with "not in view"
+    with pytest.raises(ValueError, match="absent_odds"):
+        at_most_one_posterior(lone, absent_odds=0.0)
+
+
 def test_balls_are_classed_by_their_own_scores():
     boxes = np.array([_ball(0), _ball(0.5), _ball(100), _ball(100.5)])
     cls = np.array([0, 3, 0, 3])

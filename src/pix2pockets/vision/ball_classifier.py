@@ -24,6 +24,12 @@ N_OUTPUTS = 5
 """Probabilities of cue, black, solid, stripe (detector class ids 0-3) and "no ball"."""
 OUTPUT_NAME = "probs"
 """Name of the classifier's ONNX output."""
+IN_VIEW_ABSENT_ODDS = 0.5
+"""Weight of "this table's cue ball (or 8) is not in the photo" in the raw scores' at-most-one weighing
+(:func:`~pix2pockets.vision.postprocess.at_most_one_posterior`): in a photo of a game both are nearly always
+there. Chosen on fresh validation renders (seeds 171-173); 0.5 against 1 lifts cue AP50 before and after the
+paper's post-processing on the validation and test renders (``docs/benchmarks-detector.md``, fifteenth
+session)."""
 
 
 def default_classifier_path() -> Path:
@@ -81,7 +87,9 @@ def classified_balls(
 
     A table holds one cue ball and one 8, so their scores are then weighed across the image
     (:func:`pix2pockets.vision.postprocess.at_most_one_posterior`): a stripe that looks as much like the cue
-    ball as the real one splits the chance with it. The scores before that are kept as ``own_score``.
+    ball as the real one splits the chance with it, and a lone clear cue ball scores a little above its own
+    score, the kind being usually in view (:data:`IN_VIEW_ABSENT_ODDS`). The scores before that are kept as
+    ``own_score``.
 
     Args:
         balls: class-agnostic ball detections (the "any ball" heatmap peaks), class ids ignored.
@@ -96,7 +104,7 @@ def classified_balls(
     own = balls.confidence[:, None] * np.sqrt(probs[:, :k] * share)
     score = own.copy()
     for kind in ONE_PER_TABLE:  # score columns are the ball class ids (BALL_IDS, 0-3)
-        score[:, kind] = at_most_one_posterior(own[:, kind])
+        score[:, kind] = at_most_one_posterior(own[:, kind], IN_VIEW_ABSENT_ODDS)
     keep = own >= conf_threshold
     rows, cls = np.nonzero(keep)
     return Detections(balls.boxes[rows], score[keep], np.asarray(BALL_IDS)[cls], balls.contact[rows], own[keep])

@@ -102,21 +102,24 @@ CLAIM_MIN_SCORE = 0.25
 """Balls whose best class score is below this claim the cue or the 8 only when no surer ball does."""
 
 
-def at_most_one_posterior(scores: np.ndarray) -> np.ndarray:
+def at_most_one_posterior(scores: np.ndarray, absent_odds: float = 1.0) -> np.ndarray:
     """Chance that each of one image's balls is the ball of a kind a table holds at most once (cue, 8).
 
     Read each ball's score c_i for the kind as the chance that it is there and is that ball, independently of
-    the others. Under "at most one" ball i is it with probability o_i / (1 + sum_j o_j), odds o = c / (1 - c)
-    (the 1 is the "not in view" case). A ball with no rival keeps about its own score; balls that look alike
-    share the chance, so a stripe seen from its white pole scores low beside a clear cue ball. Never above
-    the ball's own score.
+    the others. Under "at most one" ball i is it with probability o_i / (a + sum_j o_j), odds o = c / (1 - c),
+    where ``absent_odds`` a weighs the "not in view" case (1: as likely as one ball's even odds; below 1: the
+    kind is usually in the photo). With a = 1 a ball with no rival keeps about its own score and never more;
+    balls that look alike share the chance, so a stripe seen from its white pole scores low beside a clear
+    cue ball.
     """
+    if not absent_odds > 0:
+        raise ValueError(f"absent_odds must be > 0, got {absent_odds}")
     c = np.clip(np.asarray(scores, dtype=float), 0.0, 1.0)
     certain = c >= 1.0
     if certain.any():  # the limit of infinite odds: the certain balls share the kind
         return certain / certain.sum()
     odds = c / (1.0 - c)
-    return odds / (1.0 + odds.sum())
+    return odds / (absent_odds + odds.sum())
 
 
 def resolve_ball_classes(det: Detections, iou_threshold: float = DEFAULT_NMS_IOU) -> Detections:
