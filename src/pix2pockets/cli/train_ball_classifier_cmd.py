@@ -12,9 +12,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser(
         "train-ball-classifier",
         help="train the crop classifier (cue, black, solid, stripe, no ball) and export ONNX ('train' extra)",
-        description="Cut 32 px crops around every labelled ball (and ball-sized crops with no ball) from YOLO "
-        "datasets, train a small CNN on them and write OUT/ball-classifier.onnx and OUT/metrics.json (confusion "
-        "matrix on the datasets' test splits).",
+        description="Cut square crops (32 px by default) around every labelled ball (and ball-sized crops with no "
+        "ball) from YOLO datasets, train a small CNN on them and write OUT/ball-classifier.onnx and "
+        "OUT/metrics.json (confusion matrix on the datasets' test splits).",
     )
     add_crop_training_options(
         parser,
@@ -33,6 +33,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         default="grid",
         help="read the 4x4-pooled feature map (grid, default) or its mean over the crop (mean, the v2 classifier)",
     )
+    parser.add_argument("--crop-size", type=int, default=32, help="crop side in px, a multiple of 8 (default 32)")
     parser.add_argument("--scale-jitter", default="0.92,1.09", help="crop scale range lo,hi (default 0.92,1.09)")
     parser.add_argument(
         "--low-res", type=float, default=0.4, help="share of crops re-sampled through 7-20 px (default 0.4)"
@@ -59,6 +60,7 @@ def run(args: argparse.Namespace) -> int:
         scale_jitter=parse_number_pair(args.scale_jitter, "--scale-jitter", "0.92,1.09"),
         low_res=args.low_res,
         class_power=args.class_power,
+        crop_size=args.crop_size,
     )
     print(f"wrote {train_crop_classifier(cfg, progress=not args.quiet)}")
     return 0

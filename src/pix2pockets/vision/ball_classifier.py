@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pix2pockets.vision.ball_crops import CROP_SIZE, ball_diameters, crop_balls
+from pix2pockets.vision.ball_crops import ball_diameters, crop_balls
 from pix2pockets.vision.classes import BALL_IDS, ONE_PER_TABLE
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.onnx_session import open_crop_model
@@ -44,14 +44,18 @@ class BallClassifier:
         model_path: the ``.onnx`` file written by ``pix2pockets train-ball-classifier``.
         threads: onnxruntime intra-op threads (0 lets onnxruntime choose).
 
+    Attributes:
+        crop_size: side of the model's square crops [px], read from its input (32 for the shipped one).
+
     Raises:
         ValueError: if the file does not exist or is not a classifier of the expected form.
     """
 
     def __init__(self, model_path: str | Path, threads: int = 1) -> None:
         path = Path(model_path)
-        self.session = open_crop_model(path, threads, "ball classifier model", CROP_SIZE, OUTPUT_NAME, N_OUTPUTS)
+        self.session = open_crop_model(path, threads, "ball classifier model", None, OUTPUT_NAME, N_OUTPUTS)
         self.input_name = self.session.get_inputs()[0].name
+        self.crop_size: int = self.session.get_inputs()[0].shape[1]
         self.model_path = path
 
     @classmethod
@@ -71,7 +75,7 @@ class BallClassifier:
             return np.zeros((0, N_OUTPUTS), dtype=np.float32)
         centres = 0.5 * (boxes[:, :2] + boxes[:, 2:])
         aspect = pixel_aspect_of_balls(boxes) if aspect is None else aspect
-        crops = crop_balls(image_rgb, centres, ball_diameters(boxes, aspect), aspect=aspect)
+        crops = crop_balls(image_rgb, centres, ball_diameters(boxes, aspect), self.crop_size, aspect=aspect)
         return self.session.run(None, {self.input_name: crops})[0]
 
 

@@ -31,10 +31,10 @@ def open_session(path: str | Path, threads: int, what: str):
         raise ValueError(f"cannot load {what} {path}: {err}") from err
 
 
-def open_crop_model(path: str | Path, threads: int, what: str, crop_size: int, output_name: str, n_outputs: int):
+def open_crop_model(path: str | Path, threads: int, what: str, crop_size: int | None, output_name: str, n_outputs: int):
     """A session for a second-stage model that reads uint8 crops (n, crop_size, crop_size, 3) and returns
     (n, n_outputs) as ``output_name``; the ball classifier and the diamond refiner share that input, so the output
-    tells them apart.
+    tells them apart. ``crop_size`` None accepts any square crop side (read it from the session's input shape).
 
     Raises:
         ValueError: if the file does not exist, cannot be loaded, or is another kind of model.
@@ -42,10 +42,11 @@ def open_crop_model(path: str | Path, threads: int, what: str, crop_size: int, o
     session = open_session(path, threads, what)
     shape = session.get_inputs()[0].shape
     output = session.get_outputs()[0]
-    expected = [crop_size, crop_size, 3]
+    side = shape[1] if crop_size is None and len(shape) == 4 and isinstance(shape[1], int) else crop_size
+    expected = [side, side, 3]
     if len(shape) != 4 or shape[1:] != expected or output.shape[-1] != n_outputs or output.name != output_name:
         raise ValueError(
             f"{path} is not a {what}: input {shape}, output {output.name!r} {output.shape} (expected input "
-            f"[n, {crop_size}, {crop_size}, 3], output {output_name!r} [n, {n_outputs}])"
+            f"[n, {side or 'S'}, {side or 'S'}, 3], output {output_name!r} [n, {n_outputs}])"
         )
     return session

@@ -6,7 +6,7 @@ import pytest
 torch = pytest.importorskip("torch")
 
 from pix2pockets.vision.ball_classifier import BallClassifier  # noqa: E402
-from pix2pockets.vision.ball_crops import CROP_SIZE  # noqa: E402
+from pix2pockets.vision.ball_crops import CROP_SIZE, crop_balls  # noqa: E402
 from pix2pockets.vision.train.crop_classifier import (  # noqa: E402
     CropNet,
     CropTrainConfig,
@@ -31,6 +31,8 @@ def test_unknown_head_bad_copies_and_bad_jitter_are_refused():
         CropTrainConfig(data=("d",), out="o", scale_jitter=(1.1, 0.9))
     with pytest.raises(ValueError, match="jitter"):
         CropTrainConfig(data=("d",), out="o", centre_jitter=-0.1)
+    with pytest.raises(ValueError, match="crop_size"):
+        CropTrainConfig(data=("d",), out="o", crop_size=44)
 
 
 def _disc_and_cap() -> tuple[torch.Tensor, torch.Tensor]:
@@ -70,3 +72,16 @@ def test_exported_classifier_runs_in_onnxruntime(tmp_path):
         crops = torch.from_numpy(np.full((1, CROP_SIZE, CROP_SIZE, 3), 90, np.uint8)).permute(0, 3, 1, 2).float()
         expected = torch.softmax(net(crops), 1).numpy()
     assert np.allclose(probs[0], expected[0], atol=1e-4)
+
+
+def test_a_classifier_of_another_crop_size_is_fed_crops_of_its_size(tmp_path):
+    size = 48
+    net = CropNet((4, 8, 8), "grid", crop_size=size).eval()
+    clf = BallClassifier(export_crop_classifier(net, tmp_path / "clf48.onnx", size))
+    assert clf.crop_size == size
+    image = np.random.default_rng(0).integers(0, 255, (120, 160, 3), dtype=np.uint8)
+    box = np.array([[50, 40, 80, 70.0]])
+    with torch.no_grad():
+        crops = crop_balls(image, np.array([[65.0, 55.0]]), np.array([30.0]), size)
+        expected = torch.softmax(net(torch.from_numpy(crops).permute(0, 3, 1, 2).float()), 1).numpy()
+    assert np.allclose(clf.classify(image, box, aspect=1.0), expected, atol=1e-4)

@@ -46,3 +46,12 @@ def test_same_seed_same_crops():
     a = image_crops(image, item, IDENTITY, np.random.default_rng(3))
     b = image_crops(image, item, IDENTITY, np.random.default_rng(3))
     assert np.array_equal(a[0], b[0]) and np.array_equal(a[1], b[1])
+
+
+def test_crops_have_the_configured_side():
+    item = _item([[100, 100, 120, 120], [50, 50, 54, 54]], [2, 4])
+    for size in (32, 48):
+        crops, _ = image_crops(
+            np.zeros((240, 320, 3), np.uint8), item, IDENTITY, np.random.default_rng(0), CropConfig(crop_size=size)
+        )
+        assert crops.shape[1:] == (size, size, 3)

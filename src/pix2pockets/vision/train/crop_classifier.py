@@ -104,6 +104,7 @@ class CropTrainConfig:
         centre_jitter: largest crop centre shift, in ball diameters.
         scale_jitter: crop diameter scale range.
         low_res: share of the training crops re-sampled through 7-20 px (far or blurred balls).
+        crop_size: side of a crop [px], a multiple of 8; the ONNX input says it to the inference code.
     """
 
     data: tuple[str, ...]
@@ -122,6 +123,7 @@ class CropTrainConfig:
     centre_jitter: float = CropConfig().centre_jitter
     scale_jitter: tuple[float, float] = CropConfig().scale_jitter
     low_res: float = CropConfig().low_res
+    crop_size: int = CROP_SIZE
 
     def __post_init__(self) -> None:
         if not self.data:
@@ -136,6 +138,8 @@ class CropTrainConfig:
             raise ValueError(f"head must be one of {HEADS}, got {self.head!r}")
         if self.copies < 1:
             raise ValueError(f"copies must be >= 1, got {self.copies}")
+        if self.crop_size < 16 or self.crop_size % 8:
+            raise ValueError(f"crop_size must be a multiple of 8 and >= 16, got {self.crop_size}")
         if not 0 <= self.low_res <= 1:
             raise ValueError(f"low_res must be in [0, 1], got {self.low_res}")
         if not 0 <= self.centre_jitter < 0.5 or not 0 < self.scale_jitter[0] <= self.scale_jitter[1]:
@@ -198,18 +202,23 @@ def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
     out.mkdir(parents=True, exist_ok=True)
     train = _sources(cfg, "train")
     crop_cfg = CropConfig(
-        copies=cfg.copies, centre_jitter=cfg.centre_jitter, scale_jitter=cfg.scale_jitter, low_res=cfg.low_res
+        copies=cfg.copies,
+        centre_jitter=cfg.centre_jitter,
+        scale_jitter=cfg.scale_jitter,
+        low_res=cfg.low_res,
+        crop_size=cfg.crop_size,
     )
     crops, labels = collect_crops(train, read_image_rgb, cfg.seed, crop_cfg, progress)
     test = _sources(cfg, "test")
+    test_cfg = CropConfig(copies=1, crop_size=cfg.crop_size)
     test_crops, test_labels = (
-        collect_crops(test, read_image_rgb, cfg.seed + 1, CropConfig(copies=1), progress) if test else (None, None)
+        collect_crops(test, read_image_rgb, cfg.seed + 1, test_cfg, progress) if test else (None, None)
     )
     counts = np.bincount(labels, minlength=len(CROP_LABELS)).astype(float)
     weight = np.where(counts > 0, np.maximum(counts, 1) ** -cfg.class_power, 0.0)
     weight = torch.tensor(weight / (weight * counts).sum() * counts.sum(), dtype=torch.float32)
 
-    model = CropNet(cfg.widths, cfg.head, crops.shape[1])
+    model = CropNet(cfg.widths, cfg.head, cfg.crop_size)
 
     def batch_loss(net: nn.Module, x: torch.Tensor, y: torch.Tensor, gen: torch.Generator) -> torch.Tensor:
         return nn.functional.cross_entropy(net(augment(x, gen)), y, weight=weight)
@@ -235,4 +244,4 @@ def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
         metrics["test_recall"] = dict(zip(CROP_LABELS, recall.tolist(), strict=True))
     (out / "metrics.json").write_text(json.dumps(metrics, indent=2) + "\n")
     torch.save({"model": model.state_dict(), "config": asdict(cfg)}, out / "last.pt")
-    return export_crop_classifier(model, out / ONNX_NAME, crops.shape[1])
+    return export_crop_classifier(model, out / ONNX_NAME, cfg.crop_size)

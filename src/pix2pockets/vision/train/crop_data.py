@@ -34,6 +34,7 @@ class CropConfig:
         random_negatives: random "no ball" crops per labelled ball.
         off_centre_negatives: crops centred 0.75-1.1 diameters from a ball, per labelled ball.
         dot_negatives: most diamond crops per image.
+        crop_size: side of a crop [px].
     """
 
     copies: int = 1
@@ -43,6 +44,7 @@ class CropConfig:
     random_negatives: float = 0.6
     off_centre_negatives: float = 0.25
     dot_negatives: int = 6
+    crop_size: int = CROP_SIZE
 
 
 def degrade_crops(crops: np.ndarray, rng: np.random.Generator, p: float) -> np.ndarray:
@@ -94,7 +96,7 @@ def image_crops(
         for _ in range(cfg.copies):
             shift = rng.uniform(-cfg.centre_jitter, cfg.centre_jitter, size=kc.shape) * kd[:, None]
             scale = rng.uniform(*cfg.scale_jitter, size=len(kd))
-            crops.append(crop_balls(image, kc + shift, kd * scale))
+            crops.append(crop_balls(image, kc + shift, kd * scale, cfg.crop_size))
             labels.append(kl)
 
     negatives = []
@@ -118,10 +120,10 @@ def image_crops(
     for pts, d in negatives:
         keep = _far_from(pts, ball_c, 0.6 * ball_d)
         if keep.any():
-            crops.append(crop_balls(image, pts[keep], d[keep]))
+            crops.append(crop_balls(image, pts[keep], d[keep], cfg.crop_size))
             labels.append(np.full(int(keep.sum()), NO_BALL))
     if not crops:
-        return np.empty((0, CROP_SIZE, CROP_SIZE, 3), np.uint8), np.empty(0, int)
+        return np.empty((0, cfg.crop_size, cfg.crop_size, 3), np.uint8), np.empty(0, int)
     return degrade_crops(np.concatenate(crops), rng, cfg.low_res), np.concatenate(labels).astype(int)
 
 
