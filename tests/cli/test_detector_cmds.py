@@ -57,6 +57,14 @@ def test_detect_rejects_non_image(tmp_path, capsys):
     assert not (tmp_path / "o.json").exists()
 
 
+def test_detect_needs_an_output_and_can_draw_without_json(toy, tmp_path, capsys):
+    image = str(next((toy / "test" / "images").iterdir()))
+    assert main(["detect", image]) == 2 and "nothing to write" in capsys.readouterr().err
+    drawn = tmp_path / "d.png"
+    assert main(["detect", image, "--draw", str(drawn)]) == 0
+    assert drawn.read_bytes()[:4] == b"\x89PNG" and not list(tmp_path.glob("*.json"))
+
+
 def test_train_detector_tiny_run_writes_onnx_and_resumes(toy, tmp_path):
     pytest.importorskip("torch")
     pytest.importorskip("onnx", reason="ONNX export needs the onnx package (train extra)")

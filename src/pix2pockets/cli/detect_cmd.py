@@ -13,7 +13,7 @@ from pix2pockets.cli.output import check_output, write_atomic
 def register(sub: argparse._SubParsersAction) -> None:
     parser = sub.add_parser("detect", help="detect balls and diamonds in a photo (ONNX model, JSON out)")
     parser.add_argument("image", help="photo (JPEG, PNG, ...)")
-    parser.add_argument("--json", required=True, dest="json_out", help="output JSON file")
+    parser.add_argument("--json", dest="json_out", help="output JSON file (--json, --draw or both)")
     add_detector_options(parser)
     parser.add_argument("--conf", type=float, default=0.25, help="lowest confidence reported (default 0.25)")
     parser.add_argument("--nms-iou", type=float, default=0.5, help="IoU of class-agnostic NMS (default 0.5)")
@@ -28,6 +28,8 @@ def run(args: argparse.Namespace) -> int:
     from pix2pockets.vision.image_io import read_image_rgb
     from pix2pockets.vision.postprocess import postprocess
 
+    if not (args.json_out or args.draw):
+        raise ValueError("nothing to write: give --json OUT.json, --draw OUT.png or both")
     check_output(args.json_out, args.force)
     check_output(args.draw, args.force, (".png", ".jpg", ".jpeg"))
     image = read_image_rgb(args.image)
@@ -51,11 +53,13 @@ def run(args: argparse.Namespace) -> int:
         from pix2pockets.vision.draw import draw_detections
 
         picture = encode_picture(draw_detections(image, post, args.conf), Path(args.draw).suffix)
-    write_atomic(args.json_out, json.dumps(report, indent=1))
+    if args.json_out:
+        write_atomic(args.json_out, json.dumps(report, indent=1))
     if picture is not None:
         write_atomic(args.draw, picture)
     counts = {}
     for name in post.class_names:
         counts[name] = counts.get(name, 0) + 1
-    print(f"{args.image}: {len(raw)} raw, {len(post)} after post-processing {counts} -> {args.json_out}")
+    written = " and ".join(p for p in (args.json_out, args.draw) if p)
+    print(f"{args.image}: {len(raw)} raw, {len(post)} after post-processing {counts} -> {written}")
     return 0
