@@ -104,7 +104,7 @@ class CropTrainConfig:
         centre_jitter: largest crop centre shift, in ball diameters.
         scale_jitter: crop diameter scale range.
         low_res: share of the training crops re-sampled through 7-20 px (far or blurred balls).
-        crop_size: side of a crop [px], a multiple of 8; the ONNX input says it to the inference code.
+        crop_size: side of a crop [px], a multiple of 8 (inference reads it from the ONNX input).
     """
 
     data: tuple[str, ...]
