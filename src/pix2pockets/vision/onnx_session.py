@@ -42,11 +42,13 @@ def open_crop_model(path: str | Path, threads: int, what: str, crop_size: int | 
     session = open_session(path, threads, what)
     shape = session.get_inputs()[0].shape
     output = session.get_outputs()[0]
-    side = shape[1] if crop_size is None and len(shape) == 4 and isinstance(shape[1], int) else crop_size
-    expected = [side, side, 3]
-    if len(shape) != 4 or shape[1:] != expected or output.shape[-1] != n_outputs or output.name != output_name:
+    side = crop_size
+    if side is None and len(shape) == 4 and isinstance(shape[1], int):
+        side = shape[1]  # any square side: the model's own
+    if len(shape) != 4 or shape[1:] != [side, side, 3] or output.shape[-1] != n_outputs or output.name != output_name:
+        want = side if side is not None else "S"
         raise ValueError(
             f"{path} is not a {what}: input {shape}, output {output.name!r} {output.shape} (expected input "
-            f"[n, {side or 'S'}, {side or 'S'}, 3], output {output_name!r} [n, {n_outputs}])"
+            f"[n, {want}, {want}, 3], output {output_name!r} [n, {n_outputs}])"
         )
     return session
