@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from pix2pockets.vision.dot_refiner import DOT_CROP_SIZE
-from pix2pockets.vision.train.dot_data import DotCropConfig, collect_dot_crops, image_dot_crops
+from pix2pockets.vision.train.dot_data import DotCropConfig, collect_dot_crops, detector_like_boxes, image_dot_crops
 from pix2pockets.vision.yolo_data import LabelledImage
 
 IDENTITY = {k: k for k in range(5)}
@@ -37,6 +37,24 @@ def test_each_diamond_gives_shifted_crops_whose_target_is_the_bright_square():
         assert np.all(np.abs(t[:2]) <= 0.6 * 4 / 16 + 0.05)  # shifted by at most 0.6 box sides (+ rounding)
         assert np.allclose(t[2:], t[2]) and 4 / (16 * 1.3) - 1e-6 <= t[2] <= 4 / (16 * 0.85) + 1e-6  # 4 px box
     assert np.abs(targets[:, :2]).max() > 0.02  # and shifted at all
+
+
+def test_detector_like_boxes_shorten_only_the_long_side_about_the_same_centre():
+    boxes = np.array([[100.0, 50.0, 112.0, 54.0], [10.0, 10.0, 15.0, 15.0], [0.0, 0.0, 4.0, 10.0]])
+    out = detector_like_boxes(boxes, np.random.default_rng(0), (0.5, 0.5))
+    assert np.allclose(out[0], [102.0, 50.0, 110.0, 54.0])  # 12 x 4: the 8 px excess read as 4
+    assert np.allclose(out[1], boxes[1])  # a square box is its own detector box
+    assert np.allclose(out[2], [0.0, 1.5, 4.0, 8.5])  # tall boxes shorten in height
+    assert np.allclose(detector_like_boxes(boxes, np.random.default_rng(0), (1.0, 1.0)), boxes)
+
+
+def test_wide_diamonds_get_crops_that_do_not_give_their_width_away():
+    wide = [[100, 100, 116, 104]]
+    cfg = DotCropConfig(copies=200, low_res=0.0, side_jitter=(1.0, 1.0))
+    _, targets = image_dot_crops(_image_with_dots(wide), _item(wide, [4]), IDENTITY, np.random.default_rng(0), cfg)
+    assert np.allclose(targets[:, 2] / targets[:, 3], 4.0)  # the targets keep the label's 16 x 4 box
+    assert targets[:, 2].max() / targets[:, 2].min() > 1.5  # crop sides vary with the detector's reading
+    assert targets[:, 2].max() <= 1.0  # the whole sight stays inside the crop
 
 
 def test_images_without_diamonds_give_nothing_and_same_seed_same_crops():

@@ -27,12 +27,18 @@ class DotCropConfig:
         centre_jitter: largest centre shift per axis, in diamond box sides (the detector's error is mostly
             below half a side, a 4 px box being typical).
         side_jitter: crop side scale range (the detector's box size is off by up to a third).
+        long_side_read: range of the share of a slanted diamond's long side (beyond its short side) that the
+            detector's box is taken to read when the crop side is drawn: the detector reads a 10 px wide sight
+            about 7 px wide (0.5 of the excess). Sizing training crops from the label's own box instead lets the
+            refiner read a box's size off the crop's scale, and under-read slanted sights where the detector's
+            box is short (``docs/benchmarks-detector.md``, seventeenth session).
         low_res: probability that a crop is re-sampled through a lower resolution.
     """
 
     copies: int = 1
     centre_jitter: float = 0.6
     side_jitter: tuple[float, float] = (0.85, 1.3)
+    long_side_read: tuple[float, float] = (0.1, 1.1)
     low_res: float = 0.3
 
 
@@ -57,11 +63,24 @@ def image_dot_crops(
     crops, targets = [], []
     for _ in range(cfg.copies):
         shift = rng.uniform(-cfg.centre_jitter, cfg.centre_jitter, size=centres.shape) * box_side[:, None]
-        sides = dot_crop_sides(dots) * rng.uniform(*cfg.side_jitter, size=len(dots))
+        sides = dot_crop_sides(detector_like_boxes(dots, rng, cfg.long_side_read))
+        sides = sides * rng.uniform(*cfg.side_jitter, size=len(dots))
         c, corners, windows = crop_dots(image, centres + shift, sides)
         crops.append(c)
         targets.append(box_targets(dots, corners, windows))
     return degrade_crops(np.concatenate(crops), rng, cfg.low_res), np.concatenate(targets)
+
+
+def detector_like_boxes(boxes: np.ndarray, rng: np.random.Generator, long_side_read: tuple[float, float]) -> np.ndarray:
+    """Labelled diamond boxes xyxy (n, 4) [px] with each box's excess of long over short side scaled by a share
+    drawn from `long_side_read`, about the same centre: the boxes the detector would draw around them."""
+    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
+    size = boxes[:, 2:] - boxes[:, :2]
+    short = size.min(axis=1, keepdims=True)
+    share = rng.uniform(*long_side_read, size=(len(boxes), 1))
+    half = 0.5 * (short + (size - short) * share)
+    centre = 0.5 * (boxes[:, :2] + boxes[:, 2:])
+    return np.hstack([centre - half, centre + half])
 
 
 def collect_dot_crops(
