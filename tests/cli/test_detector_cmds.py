@@ -1,6 +1,7 @@
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from pix2pockets.cli.main import main
@@ -297,3 +298,38 @@ def test_train_detector_records_the_stretch_settings(toy, tmp_path):
     assert main(args) == 0
     augment = json.loads((out / "detector.json").read_text())["config"]["augment"]
     assert augment["stretch_range"] == [0.5, 0.6] and augment["stretch_fraction"] == 1.0 and augment["crop"] == 64
+
+
+def test_train_ball_numbers_tiny_run_on_renders(tmp_path, capsys):
+    pytest.importorskip("torch")
+    pytest.importorskip("onnx", reason="ONNX export needs the onnx package (train extra)")
+    from pix2pockets.vision.ball_numbers import N_NUMBERS, BallNumberReader
+
+    data = tmp_path / "renders"
+    assert main(["synth", "--n", "2", "--out", str(data), "--size", "320x180", "--split", "0.5,0,0.5", "--seed", "3",
+                 "--no-progress"]) == 0  # fmt: skip
+    out = tmp_path / "num"
+    args = ["train-ball-numbers", "--data", str(data), "--out", str(out), "--epochs", "1", "--widths", "4,8,8"]
+    assert main([*args, "--quiet"]) == 0
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert len(metrics["train_counts"]) == N_NUMBERS and sum(metrics["train_counts"]) > 0
+    assert 0 <= metrics["test"]["accuracy_within_class"] <= 1
+    reader = BallNumberReader(out / "ball-numbers.onnx")
+    assert reader.read(np.zeros((60, 60, 3), np.uint8), np.array([[20.0, 20, 40, 40]])).shape == (1, N_NUMBERS)
+    image = str(next((data / "test" / "images").iterdir()))
+    onnx = str(out / "ball-numbers.onnx")
+    assert main(["detect", image, "--numbers", onnx, "--conf", "0.05", "--json", str(tmp_path / "d.json")]) == 0
+    report = json.loads((tmp_path / "d.json").read_text())
+    assert report["number_reader"] == onnx
+    balls = [d for d in report["after_postprocess"] if d["class"] != "dot"]
+    assert balls and all("number" in d for d in balls)
+    assert main(["detect", image, "--numbers", "none", "--json", str(tmp_path / "e.json")]) == 0
+    report = json.loads((tmp_path / "e.json").read_text())
+    assert report["number_reader"] is None and not any("number" in d for d in report["after_postprocess"])
+
+
+def test_train_ball_numbers_refuses_data_without_sidecars(toy, tmp_path, capsys):
+    pytest.importorskip("torch")
+    args = ["train-ball-numbers", "--data", str(toy), "--out", str(tmp_path / "n"), "--epochs", "1", "--quiet"]
+    assert main(args) == 2
+    assert "sidecar" in capsys.readouterr().err

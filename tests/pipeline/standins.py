@@ -103,3 +103,22 @@ class ExampleLabelsDetector:
         from pix2pockets.vision.analytic import detections_from_synth_labels
 
         return detections_from_synth_labels(self.labels, silhouette=True)
+
+
+@dataclass
+class LabelNumberReader:
+    """Reads each ball's number from the known layout: the number of the ball whose centre projects nearest the
+    box."""
+
+    camera: PinholeCamera
+    layout: TableLayout
+
+    def numbers(self, image_rgb: np.ndarray, boxes: np.ndarray, class_ids: np.ndarray, aspect=None):
+        from pix2pockets.vision.ball_numbers import N_NUMBERS, assign_numbers
+
+        centres = self.camera.project_table(self.layout.positions, SPEC.ball_radius)
+        mid = 0.5 * (boxes[:, :2] + boxes[:, 2:])
+        nearest = np.linalg.norm(mid[:, None] - centres[None], axis=2).argmin(axis=1)
+        probs = np.full((len(boxes), N_NUMBERS), 0.01)
+        probs[np.arange(len(boxes)), [self.layout.balls[i].number for i in nearest]] = 1.0
+        return assign_numbers(probs, class_ids)

@@ -8,7 +8,16 @@ from pix2pockets.pipeline.result import power_level
 from pix2pockets.state import Shot
 from pix2pockets.vision.table_fit import TableFitError
 
-from .standins import SPEC, Candidate, LabelDetector, NearestPocketPlanner, blank_image, camera, example_layout
+from .standins import (
+    SPEC,
+    Candidate,
+    LabelDetector,
+    LabelNumberReader,
+    NearestPocketPlanner,
+    blank_image,
+    camera,
+    example_layout,
+)
 
 
 @pytest.mark.parametrize("view", ["top", "45", "front"])
@@ -108,3 +117,26 @@ def test_clean_detections_keeps_a_ball_that_lost_the_cue():
     raw = Detections(boxes, np.array([0.36, 0.05, 0.45, 0.18]), np.array([0, 3, 0, 3]))
     out = clean_detections(raw)
     assert sorted(out.class_id.tolist()) == [0, 3]  # the stripe scores 0.18 as a stripe but 0.45 as a ball
+
+
+def test_ball_numbers_are_read_named_in_the_text_and_drawn():
+    cam = camera("45")
+    layout = example_layout()
+    reader = LabelNumberReader(cam, layout)
+    res = suggest(
+        blank_image(cam), "solids", LabelDetector(cam, layout), NearestPocketPlanner(), SPEC, number_reader=reader
+    )
+    got = np.array([b.table_xy_m for b in res.balls])
+    truth = [layout.balls[int(np.linalg.norm(layout.positions - xy, axis=1).argmin())].number for xy in got]
+    assert [b.number for b in res.balls] == truth
+    target = res.balls[res.shot.target_ball]
+    assert res.text.startswith(f"{target.number} ball (solid) at")
+    doc = res.to_dict()
+    assert [b["number"] for b in doc["balls"]] == truth and doc["balls"][0]["number_chance"] > 0.5
+    assert render_result(blank_image(cam), res).dtype == np.uint8
+
+    plain = suggest(
+        blank_image(cam), "solids", LabelDetector(cam, layout), NearestPocketPlanner(), SPEC, number_reader=False
+    )
+    assert all(b.number is None for b in plain.balls) and plain.text.startswith("solid ball at")
+    assert plain.to_dict()["balls"][0]["number"] is None

@@ -20,12 +20,21 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--draw", default=None, help="also write the post-processed detections drawn on the image (.png or .jpg)"
     )
+    parser.add_argument(
+        "--numbers",
+        default=None,
+        help="ball-number reader ONNX naming each ball after post-processing (default: the bundled one; 'none': "
+        "classes only)",
+    )
     parser.add_argument("--force", action="store_true", help="overwrite existing output files")
     parser.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
+    import numpy as np
+
     from pix2pockets.vision.image_io import read_image_rgb
+    from pix2pockets.vision.onnx_detector import number_reader_from_option
     from pix2pockets.vision.postprocess import postprocess
 
     if not (args.json_out or args.draw):
@@ -34,8 +43,16 @@ def run(args: argparse.Namespace) -> int:
     check_output(args.draw, args.force, (".png", ".jpg", ".jpeg"))
     image = read_image_rgb(args.image)
     detector = detector_from_args(args, args.conf)
+    reader = number_reader_from_option(args.numbers, args.threads)
     raw = detector.detect(image)
     post = postprocess(raw, args.nms_iou)
+    after = post.to_list()
+    if reader is not None:
+        balls = np.flatnonzero(post.is_ball)
+        numbers, chances = reader.numbers(image, post.boxes[balls], post.class_id[balls])
+        for i, number, chance in zip(balls, numbers, chances, strict=True):
+            after[i]["number"] = int(number) if number >= 0 else None
+            after[i]["number_chance"] = round(float(chance), 4)
     report = {
         "image": str(args.image),
         "size_px": [int(image.shape[1]), int(image.shape[0])],
@@ -43,9 +60,10 @@ def run(args: argparse.Namespace) -> int:
         "classifier": str(detector.classifier.model_path) if detector.classifier else None,
         "dot_refiner": str(detector.dot_refiner.model_path) if detector.dot_refiner else None,
         "ball_refiner": str(detector.ball_refiner.model_path) if detector.ball_refiner else None,
+        "number_reader": str(reader.model_path) if reader else None,
         "conf_threshold": args.conf,
         "before_postprocess": raw.to_list(),
-        "after_postprocess": post.to_list(),
+        "after_postprocess": after,
     }
     picture = None
     if args.draw:

@@ -12,7 +12,8 @@ import numpy as np
 
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.raster import TableRaster
-from pix2pockets.pipeline.result import Suggestion
+from pix2pockets.pipeline.result import LocatedBall, Suggestion
+from pix2pockets.synth.palette import BALL_COLOURS as NUMBER_COLOURS
 
 CUE_PATH = (255, 255, 255)
 OBJECT_PATH = (255, 210, 0)
@@ -71,6 +72,44 @@ def _arrow_head(img: np.ndarray, poly: np.ndarray, colour: tuple, size: int) -> 
         c, s_ = np.cos(sign * 2.6), np.sin(sign * 2.6)
         tip = end + size * np.array([c * d[0] - s_ * d[1], s_ * d[0] + c * d[1]])
         cv2.line(img, tuple(int(v) for v in end), tuple(int(v) for v in tip), colour, 2, cv2.LINE_AA)
+
+
+def _ball_face(ball: LocatedBall) -> tuple[tuple[int, int, int], bool]:
+    """Diagram colour (RGB) of a ball and whether it is drawn as a stripe: its own colour when its number was
+    read (a stripe's band), else a colour for its class."""
+    if ball.number is None:
+        return BALL_COLOURS[ball.ball_class], ball.ball_class == "stripe"
+    base = NUMBER_COLOURS[ball.number - 8 if ball.number > 8 else ball.number]
+    return tuple(round(255 * v) for v in base), ball.number > 8
+
+
+def _striped_disc(img: np.ndarray, centre: tuple[int, int], radius: int, colour: tuple) -> None:
+    """A white disc with a horizontal band of `colour` across its middle (a stripe seen from the side)."""
+    cv2 = _cv2()
+    x0, y0 = max(0, centre[0] - radius - 1), max(0, centre[1] - radius - 1)
+    x1, y1 = min(img.shape[1], centre[0] + radius + 2), min(img.shape[0], centre[1] + radius + 2)
+    if x1 <= x0 or y1 <= y0:
+        return
+    patch = img[y0:y1, x0:x1]
+    disc = np.zeros(patch.shape[:2], dtype=np.uint8)
+    cv2.circle(disc, (centre[0] - x0, centre[1] - y0), radius, 255, -1, cv2.LINE_AA)
+    band = np.abs(np.arange(y0, y1) - centre[1]) <= 0.55 * radius
+    face = np.where(band[:, None, None], np.array(colour, float), np.array((245.0, 245.0, 240.0)))
+    alpha = disc[:, :, None] / 255.0
+    patch[:] = np.round(patch * (1 - alpha) + face * alpha).astype(np.uint8)
+
+
+def _draw_number(img: np.ndarray, centre: tuple[int, int], number: int, radius: int) -> None:
+    """A ball's number in a small white disc at its centre, sized to a ball of `radius` [px]."""
+    cv2 = _cv2()
+    if number == 0 or radius < 6:
+        return
+    cv2.circle(img, centre, max(3, round(radius * 0.62)), (250, 250, 245), -1, cv2.LINE_AA)
+    text = str(number)
+    scale = radius / 24
+    (tw, th), _ = cv2.getTextSize(text, cv2.FONT_HERSHEY_SIMPLEX, scale, 1)
+    org = (centre[0] - tw // 2, centre[1] + th // 2)
+    cv2.putText(img, text, org, cv2.FONT_HERSHEY_SIMPLEX, scale, (10, 10, 10), 1, cv2.LINE_AA)
 
 
 def draw_photo(rgb: np.ndarray, result: Suggestion) -> np.ndarray:
@@ -135,12 +174,13 @@ def draw_diagram(result: Suggestion, height: int) -> np.ndarray:
             _arrow_head(img, poly, colour, 3 * r)
     for ball, xy in zip(result.balls, result.layout.positions, strict=True):
         c = tuple(round(v) for v in raster.table_to_pixels(xy))
-        colour = BALL_COLOURS[ball.ball_class]
-        if ball.ball_class == "stripe":
-            cv2.circle(img, c, r, (245, 245, 240), -1, cv2.LINE_AA)
-            cv2.circle(img, c, max(1, r // 2), colour, -1, cv2.LINE_AA)
+        colour, striped = _ball_face(ball)
+        if striped:
+            _striped_disc(img, c, r, colour)
         else:
             cv2.circle(img, c, r, colour, -1, cv2.LINE_AA)
+        if ball.number is not None:
+            _draw_number(img, c, ball.number, r)
         cv2.circle(img, c, r, (0, 0, 0), 1, cv2.LINE_AA)
     if shot.ghost is not None:
         c = tuple(round(v) for v in raster.table_to_pixels(shot.ghost))

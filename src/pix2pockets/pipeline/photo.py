@@ -4,7 +4,7 @@ Example:
     >>> import pix2pockets
     >>> s = pix2pockets.suggest("table.jpg", group="auto")  # doctest: +SKIP
     >>> s.text  # doctest: +SKIP
-    'solid ball at (1.92, 0.41) m -> top-right pocket, direct, power 12/30, 81% chance (solids)'
+    '3 ball (solid) at (1.92, 0.41) m -> top-right pocket, direct, power 12/30, 81% chance (solids)'
 """
 
 from __future__ import annotations
@@ -20,6 +20,7 @@ from pix2pockets.geometry.table import TableSpec
 from pix2pockets.pipeline.planning import ShotPlanner, default_planner, plan_shot
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
 from pix2pockets.vision.ball_location import LocateMethod, locate_balls
+from pix2pockets.vision.ball_numbers import BallNumberReader
 from pix2pockets.vision.base import Detector
 from pix2pockets.vision.classes import CLASS_NAMES
 from pix2pockets.vision.detections import Detections
@@ -49,6 +50,15 @@ def default_detector() -> Detector:
         raise ValueError(
             f"{err} (pass a model with --model / detector=, or train one: pix2pockets train-detector)"
         ) from None
+
+
+@functools.lru_cache(maxsize=1)
+def default_number_reader() -> BallNumberReader | None:
+    """The bundled ball-number reader, loaded once per process; None in a checkout without its weights (the
+    suggestion then names balls by class only)."""
+    from pix2pockets.vision.onnx_detector import number_reader_from_option
+
+    return number_reader_from_option(None)
 
 
 def load_image(image: str | Path | np.ndarray) -> np.ndarray:
@@ -93,6 +103,7 @@ def suggest(
     locate_method: LocateMethod | str = LocateMethod.SPHERE,
     rng: np.random.Generator | None = None,
     measure_rail_height: bool = True,
+    number_reader: BallNumberReader | bool | None = True,
 ) -> Suggestion:
     """The best shot for a photo of a pool table.
 
@@ -106,6 +117,8 @@ def suggest(
         rng: randomness for the planner (a fixed seed when ``None``).
         measure_rail_height: measure the diamond-plane height above the cloth from the cushion noses
             (:mod:`pix2pockets.vision.rail_height`); otherwise the typical height is assumed.
+        number_reader: reads each ball's number (``True``: the bundled reader when present; ``False`` or
+            ``None``: balls are named by class only).
 
     Raises:
         ValueError: unreadable image, no table found, too few table points, no cue ball, no balls of the
@@ -143,6 +156,16 @@ def suggest(
     timings["locate"] = time.perf_counter() - t
 
     t = time.perf_counter()
+    reader = default_number_reader() if number_reader is True else (number_reader or None)
+    kept = located.detections
+    if reader is not None and len(kept):
+        numbers, chances = reader.numbers(rgb, kept.boxes, kept.class_id)
+        read = [(int(n), float(c)) if n >= 0 else (None, None) for n, c in zip(numbers, chances, strict=True)]
+    else:
+        read = [(None, None)] * len(kept)
+    timings["numbers"] = time.perf_counter() - t
+
+    t = time.perf_counter()
     planner = planner or default_planner()
     advice = plan_shot(layout, group, planner, rng)
     timings["plan"] = time.perf_counter() - t
@@ -155,14 +178,11 @@ def suggest(
             tuple(float(v) for v in contact),
             tuple(float(v) for v in xy),
             tuple(float(v) for v in table_to_env_pixels(xy, spec)),
+            number,
+            chance,
         )
-        for c, conf, box, contact, xy in zip(
-            located.detections.class_id,
-            located.detections.confidence,
-            located.detections.boxes,
-            located.contact_px,
-            layout.positions,
-            strict=True,
+        for c, conf, box, contact, xy, (number, chance) in zip(
+            kept.class_id, kept.confidence, kept.boxes, located.contact_px, layout.positions, read, strict=True
         )
     )
     timings["total"] = time.perf_counter() - t0

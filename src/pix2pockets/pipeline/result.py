@@ -38,6 +38,9 @@ class LocatedBall:
         table_xy_m: ball centre in the table frame [m].
         env_xy_px: the same in the paper's environment pixels (735 x 410 window, see
             :func:`pix2pockets.geometry.raster.table_to_env_pixels`).
+        number: the ball's number 0-15 as read from the photo (:mod:`pix2pockets.vision.ball_numbers`), ``None``
+            when not read.
+        number_chance: the reader's chance of that number among the numbers of the ball's class.
     """
 
     ball_class: str
@@ -46,10 +49,19 @@ class LocatedBall:
     contact_px: tuple[float, float]
     table_xy_m: tuple[float, float]
     env_xy_px: tuple[float, float] = (float("nan"), float("nan"))
+    number: int | None = None
+    number_chance: float | None = None
+
+    @property
+    def name(self) -> str:
+        """How a player calls the ball: ``3 ball (solid)`` when its number was read, else ``solid ball``."""
+        return f"{self.ball_class} ball" if self.number is None else f"{self.number} ball ({self.ball_class})"
 
     def to_dict(self) -> dict:
         return {
             "class": self.ball_class,
+            "number": self.number,
+            "number_chance": None if self.number_chance is None else round(self.number_chance, 4),
             "confidence": round(self.confidence, 4),
             "bbox_px": [round(v, 2) for v in self.bbox_px],
             "contact_px": [round(v, 2) for v in self.contact_px],
@@ -119,7 +131,7 @@ class ShotAdvice:
         ball = balls[self.target_ball]
         x, y = ball.table_xy_m
         return (
-            f"{ball.ball_class} ball at ({x:.2f}, {y:.2f}) m -> {self.pocket} pocket, {self.kind}, "
+            f"{ball.name} at ({x:.2f}, {y:.2f}) m -> {self.pocket} pocket, {self.kind}, "
             f"power {self.power_level}/30{chance} ({self.group})"
         )
 

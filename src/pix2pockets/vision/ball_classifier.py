@@ -12,11 +12,10 @@ from pathlib import Path
 
 import numpy as np
 
-from pix2pockets.vision.ball_crops import ball_diameters, crop_balls
+from pix2pockets.vision.ball_crops import crops_of_boxes
 from pix2pockets.vision.classes import BALL_IDS, ONE_PER_TABLE
 from pix2pockets.vision.detections import Detections
 from pix2pockets.vision.onnx_session import open_crop_model
-from pix2pockets.vision.pixel_aspect import pixel_aspect_of_balls
 from pix2pockets.vision.postprocess import at_most_one_posterior
 
 DEFAULT_CLASSIFIER = "ball-classifier.onnx"
@@ -70,12 +69,9 @@ class BallClassifier:
         (:func:`~pix2pockets.vision.pixel_aspect.pixel_aspect_of_balls`), so the balls of a photo stretched by an
         export are cropped round again.
         """
-        boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
-        if len(boxes) == 0:
+        crops = crops_of_boxes(image_rgb, boxes, self.crop_size, aspect)
+        if len(crops) == 0:
             return np.zeros((0, N_OUTPUTS), dtype=np.float32)
-        centres = 0.5 * (boxes[:, :2] + boxes[:, 2:])
-        aspect = pixel_aspect_of_balls(boxes) if aspect is None else aspect
-        crops = crop_balls(image_rgb, centres, ball_diameters(boxes, aspect), self.crop_size, aspect=aspect)
         return self.session.run(None, {self.input_name: crops})[0]
 
 

@@ -83,3 +83,18 @@ def stretched_windows(
         x_corners, x_sides = crop_windows(centres, np.asarray(diameters, dtype=float) * aspect, context)
         x_corners = x_corners[:, 0]
     return np.stack([x_corners, corners[:, 1], x_sides, sides], axis=1).reshape(-1, 4)
+
+
+def crops_of_boxes(image: np.ndarray, boxes: np.ndarray, size: int, aspect: float | None = None) -> np.ndarray:
+    """Crops (n, size, size, 3) uint8 of the balls in xyxy boxes (n, 4) [px], as the second-stage ball models read
+    them: centred on each box, :data:`CROP_CONTEXT` diameters wide. ``aspect`` (width over height of one pixel)
+    is read from the boxes when None (:func:`~pix2pockets.vision.pixel_aspect.pixel_aspect_of_balls`), so the
+    balls of a photo stretched by an export come out round."""
+    from pix2pockets.vision.pixel_aspect import pixel_aspect_of_balls
+
+    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
+    if len(boxes) == 0:
+        return np.zeros((0, size, size, 3), dtype=np.uint8)
+    aspect = pixel_aspect_of_balls(boxes) if aspect is None else aspect
+    centres = 0.5 * (boxes[:, :2] + boxes[:, 2:])
+    return crop_balls(image, centres, ball_diameters(boxes, aspect), size, aspect=aspect)

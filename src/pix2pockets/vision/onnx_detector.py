@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from pix2pockets.vision.ball_classifier import BallClassifier, classified_balls, default_classifier_path
+from pix2pockets.vision.ball_numbers import BallNumberReader, default_number_reader_path
 from pix2pockets.vision.ball_refiner import BallRefiner, default_ball_refiner_path
 from pix2pockets.vision.classes import BALL_IDS, DOT_ID
 from pix2pockets.vision.detections import Detections
@@ -193,6 +194,12 @@ def ball_refiner_from_option(option: str | None, threads: int = 1) -> BallRefine
     """The ball refiner a command-line option names: None -> the shipped one (if any), "none" -> no second stage,
     anything else -> that ONNX file."""
     return _second_stage(option, threads, BallRefiner, default_ball_refiner_path())
+
+
+def number_reader_from_option(option: str | None, threads: int = 1) -> BallNumberReader | None:
+    """The ball-number reader a command-line option names: None -> the shipped one (if any), "none" -> none,
+    anything else -> that ONNX file."""
+    return _second_stage(option, threads, BallNumberReader, default_number_reader_path())
 
 
 def _second_stage(option: str | None, threads: int, kind: type, shipped: Path):

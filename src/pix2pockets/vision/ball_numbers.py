@@ -1,0 +1,115 @@
+"""Ball numbers from a photo: a small crop network reads each ball's colour, the ball's class picks the group.
+
+The reader (``ball-numbers.onnx``, trained by ``pix2pockets train-ball-numbers``) gives chances of the 16 ball
+numbers for a crop. A ball's class is known from the detector, so only the numbers of its class count
+(a solid is 1-7, a stripe 9-15), and a set holds each number once: :func:`assign_numbers` picks the most
+likely numbering of all balls together.
+
+Example:
+    >>> reader = BallNumberReader.from_default()  # doctest: +SKIP
+    >>> numbers, chance = assign_numbers(reader.read(image_rgb, boxes), class_ids)  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+from scipy.optimize import linear_sum_assignment
+
+from pix2pockets.vision.ball_crops import crops_of_boxes
+from pix2pockets.vision.onnx_session import open_crop_model
+
+DEFAULT_NUMBER_READER = "ball-numbers.onnx"
+N_NUMBERS = 16
+"""Ball numbers 0 (the cue ball) to 15."""
+OUTPUT_NAME = "probs"
+NUMBERS_OF_CLASS: tuple[tuple[int, ...], ...] = ((0,), (8,), tuple(range(1, 8)), tuple(range(9, 16)))
+"""The numbers a ball of each detector class id may carry: cue 0, black 8, solid 1-7, stripe 9-15."""
+UNKNOWN = -1
+"""Number given to a ball whose class has no number left (more balls of a class than the set holds)."""
+
+
+def class_mask(class_ids: np.ndarray) -> np.ndarray:
+    """(n, 16) bool: which numbers each ball's class id (0-3) allows."""
+    class_ids = np.asarray(class_ids, dtype=int).reshape(-1)
+    if len(class_ids) and (class_ids.min() < 0 or class_ids.max() >= len(NUMBERS_OF_CLASS)):
+        raise ValueError(f"ball class ids must be 0-3, got {sorted(set(class_ids.tolist()))}")
+    allowed = np.zeros((len(NUMBERS_OF_CLASS), N_NUMBERS), dtype=bool)
+    for k, numbers in enumerate(NUMBERS_OF_CLASS):
+        allowed[k, list(numbers)] = True
+    return allowed[class_ids]
+
+
+def assign_numbers(probs: np.ndarray, class_ids: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The most likely numbering of a table's balls: each ball a number of its class, each number at most once.
+
+    Args:
+        probs: (n, 16) the reader's chances of each number per ball.
+        class_ids: (n,) the balls' detector class ids (0 cue, 1 black, 2 solid, 3 stripe).
+
+    Returns:
+        numbers (n,) int, :data:`UNKNOWN` where the class has more balls than numbers; and each ball's chance of
+        its number among its class's numbers (n,), 0 where unknown.
+    """
+    probs = np.asarray(probs, dtype=float).reshape(-1, N_NUMBERS)
+    mask = class_mask(class_ids)
+    if len(mask) != len(probs):
+        raise ValueError(f"{len(probs)} rows of chances but {len(mask)} class ids")
+    within = np.where(mask, np.maximum(probs, 1e-9), 0.0)
+    within /= np.maximum(within.sum(axis=1, keepdims=True), 1e-12)
+    numbers = np.full(len(probs), UNKNOWN, dtype=int)
+    chance = np.zeros(len(probs))
+    if len(probs) == 0:
+        return numbers, chance
+    forbidden = 1e6  # far above any sum of log chances
+    cost = np.where(mask, -np.log(np.maximum(within, 1e-9)), forbidden)
+    rows, cols = linear_sum_assignment(cost)
+    ok = mask[rows, cols]
+    numbers[rows[ok]] = cols[ok]
+    chance[rows[ok]] = within[rows[ok], cols[ok]]
+    return numbers, chance
+
+
+def default_number_reader_path() -> Path:
+    """Path of the reader shipped as package data (may not exist in a checkout without weights)."""
+    return Path(str(resources.files("pix2pockets.data").joinpath("models", DEFAULT_NUMBER_READER)))
+
+
+class BallNumberReader:
+    """Reads ball numbers from crops of the original photo.
+
+    Args:
+        model_path: the ``.onnx`` file written by ``pix2pockets train-ball-numbers``.
+        threads: onnxruntime intra-op threads (0 lets onnxruntime choose).
+
+    Raises:
+        ValueError: if the file does not exist or is not a ball-number reader.
+    """
+
+    def __init__(self, model_path: str | Path, threads: int = 1) -> None:
+        path = Path(model_path)
+        self.session = open_crop_model(path, threads, "ball-number reader model", None, OUTPUT_NAME, N_NUMBERS)
+        self.input_name = self.session.get_inputs()[0].name
+        self.crop_size: int = self.session.get_inputs()[0].shape[1]
+        self.model_path = path
+
+    @classmethod
+    def from_default(cls, threads: int = 1) -> BallNumberReader:
+        """The reader shipped with the package."""
+        return cls(default_number_reader_path(), threads)
+
+    def read(self, image_rgb: np.ndarray, boxes: np.ndarray, aspect: float | None = None) -> np.ndarray:
+        """Chances (n, 16) of ball numbers 0-15 for balls in xyxy boxes (n, 4) [px] (``aspect``: see
+        :func:`~pix2pockets.vision.ball_crops.crops_of_boxes`)."""
+        crops = crops_of_boxes(image_rgb, boxes, self.crop_size, aspect)
+        if len(crops) == 0:
+            return np.zeros((0, N_NUMBERS), dtype=np.float32)
+        return self.session.run(None, {self.input_name: crops})[0]
+
+    def numbers(
+        self, image_rgb: np.ndarray, boxes: np.ndarray, class_ids: np.ndarray, aspect: float | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Numbers (n,) and their chances (n,) for a table's balls (:func:`assign_numbers`)."""
+        return assign_numbers(self.read(image_rgb, boxes, aspect), class_ids)

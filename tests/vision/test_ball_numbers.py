@@ -1,0 +1,92 @@
+"""Ball numbers: each ball gets a number of its class, each number at most once, the likeliest numbering wins."""
+
+import numpy as np
+import pytest
+
+from pix2pockets.vision.ball_numbers import (
+    N_NUMBERS,
+    UNKNOWN,
+    BallNumberReader,
+    assign_numbers,
+    class_mask,
+    default_number_reader_path,
+)
+from pix2pockets.vision.classes import CLASS_NAMES
+
+CUE, BLACK, SOLID, STRIPE = (CLASS_NAMES.index(k) for k in ("cue", "black", "solid", "stripe"))
+
+
+def _probs(*peaks: dict[int, float]) -> np.ndarray:
+    """Rows of chances with the given weights on some numbers and a little on all."""
+    out = np.full((len(peaks), N_NUMBERS), 0.001)
+    for row, peak in zip(out, peaks, strict=True):
+        for n, p in peak.items():
+            row[n] = p
+    return out / out.sum(axis=1, keepdims=True)
+
+
+def test_class_mask_allows_only_the_class_numbers():
+    mask = class_mask(np.array([CUE, BLACK, SOLID, STRIPE]))
+    assert np.flatnonzero(mask[0]).tolist() == [0]
+    assert np.flatnonzero(mask[1]).tolist() == [8]
+    assert np.flatnonzero(mask[2]).tolist() == list(range(1, 8))
+    assert np.flatnonzero(mask[3]).tolist() == list(range(9, 16))
+    with pytest.raises(ValueError, match="0-3"):
+        class_mask(np.array([4]))
+
+
+def test_a_ball_gets_a_number_of_its_class_even_if_it_looks_like_another():
+    # the reader sees a red ball (3), but the detector says stripe: the red stripe is the 11
+    numbers, chance = assign_numbers(_probs({3: 0.6, 11: 0.3}), np.array([STRIPE]))
+    assert numbers.tolist() == [11]
+    assert 0.9 < chance[0] <= 1.0
+
+
+def test_each_number_once_the_likeliest_numbering_of_the_table():
+    # two solids both look most like the 3; the second looks much more like the 7 than the first does
+    probs = _probs({3: 0.9, 7: 0.05}, {3: 0.5, 7: 0.45}, {0: 0.9}, {8: 0.9})
+    numbers, _ = assign_numbers(probs, np.array([SOLID, SOLID, CUE, BLACK]))
+    assert numbers.tolist() == [3, 7, 0, 8]
+
+
+def test_more_balls_of_a_class_than_the_set_holds_leaves_the_least_likely_unknown():
+    probs = _probs({0: 0.9}, {0: 0.4})
+    numbers, chance = assign_numbers(probs, np.array([CUE, CUE]))
+    assert numbers.tolist() == [0, UNKNOWN]
+    assert chance[1] == 0.0
+
+
+def test_empty_table_and_mismatched_rows():
+    numbers, chance = assign_numbers(np.zeros((0, N_NUMBERS)), np.zeros(0, int))
+    assert numbers.shape == (0,) and chance.shape == (0,)
+    with pytest.raises(ValueError, match="class ids"):
+        assign_numbers(_probs({1: 1.0}), np.array([SOLID, SOLID]))
+
+
+def test_reader_refuses_a_missing_file_and_another_kind_of_model(tmp_path):
+    with pytest.raises(ValueError, match="not found"):
+        BallNumberReader(tmp_path / "nope.onnx")
+    from pix2pockets.vision.ball_classifier import default_classifier_path
+
+    if default_classifier_path().is_file():
+        with pytest.raises(ValueError, match="ball-number reader"):
+            BallNumberReader(default_classifier_path())
+
+
+@pytest.mark.skipif(not default_number_reader_path().is_file(), reason="no bundled ball-number reader")
+def test_bundled_reader_reads_the_balls_of_a_fresh_render():
+    from pix2pockets.synth.renderer import render
+
+    rend = render((5155, 1), (960, 540))
+    balls = [b for b in rend.labels["balls"] if b["labelled"] and b["visible_fraction"] > 0.9]
+    if len(balls) < 4:
+        pytest.skip("render holds fewer than 4 clearly visible balls")
+    boxes = np.array([b["box_px"] for b in balls], dtype=float)
+    truth = np.array([b["number"] for b in balls])
+    classes = np.array([b["class_id"] for b in balls])
+    reader = BallNumberReader.from_default()
+    probs = reader.read(rend.image, boxes)
+    assert probs.shape == (len(balls), N_NUMBERS)
+    assert np.allclose(probs.sum(axis=1), 1.0, atol=1e-4)
+    numbers, _ = assign_numbers(probs, classes)
+    assert np.mean(numbers == truth) >= 0.75
