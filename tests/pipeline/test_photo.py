@@ -140,3 +140,13 @@ def test_ball_numbers_are_read_named_in_the_text_and_drawn():
     )
     assert all(b.number is None for b in plain.balls) and plain.text.startswith("solid ball at")
     assert plain.to_dict()["balls"][0]["number"] is None
+
+
+def test_an_unsure_number_is_kept_in_json_but_not_named():
+    from pix2pockets.pipeline.result import LocatedBall
+
+    ball = LocatedBall("solid", 0.9, (0, 0, 10, 10), (5, 9), (1.0, 0.5), number=3, number_chance=0.3)
+    assert ball.sure_number is None and ball.name == "solid ball"
+    assert ball.to_dict()["number"] == 3
+    sure = LocatedBall("solid", 0.9, (0, 0, 10, 10), (5, 9), (1.0, 0.5), number=3, number_chance=0.8)
+    assert sure.name == "3 ball (solid)"

@@ -75,12 +75,13 @@ def _arrow_head(img: np.ndarray, poly: np.ndarray, colour: tuple, size: int) -> 
 
 
 def _ball_face(ball: LocatedBall) -> tuple[tuple[int, int, int], bool]:
-    """Diagram colour (RGB) of a ball and whether it is drawn as a stripe: its own colour when its number was
-    read (a stripe's band), else a colour for its class."""
-    if ball.number is None:
+    """Diagram colour (RGB) of a ball and whether it is drawn as a stripe: its own colour when its number is
+    read with some certainty (a stripe's band), else a colour for its class."""
+    number = ball.sure_number
+    if number is None:
         return BALL_COLOURS[ball.ball_class], ball.ball_class == "stripe"
-    base = NUMBER_COLOURS[ball.number - 8 if ball.number > 8 else ball.number]
-    return tuple(round(255 * v) for v in base), ball.number > 8
+    base = NUMBER_COLOURS[number - 8 if number > 8 else number]
+    return tuple(round(255 * v) for v in base), number > 8
 
 
 def _striped_disc(img: np.ndarray, centre: tuple[int, int], radius: int, colour: tuple) -> None:
@@ -179,8 +180,8 @@ def draw_diagram(result: Suggestion, height: int) -> np.ndarray:
             _striped_disc(img, c, r, colour)
         else:
             cv2.circle(img, c, r, colour, -1, cv2.LINE_AA)
-        if ball.number is not None:
-            _draw_number(img, c, ball.number, r)
+        if ball.sure_number is not None:
+            _draw_number(img, c, ball.sure_number, r)
         cv2.circle(img, c, r, (0, 0, 0), 1, cv2.LINE_AA)
     if shot.ghost is not None:
         c = tuple(round(v) for v in raster.table_to_pixels(shot.ghost))

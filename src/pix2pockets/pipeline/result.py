@@ -18,6 +18,9 @@ from pix2pockets.state.shot import Shot
 MIN_SPEED = 0.2  # [m/s] power level 1 (the environment's ActionConfig.min_speed)
 MAX_SPEED = 8.0  # [m/s] power level 30 (ActionConfig.max_speed)
 N_POWER_LEVELS = 30
+SURE_NUMBER_CHANCE = 0.5
+"""A ball is named and drawn by its number when the reader's chance of it is at least this (the JSON always
+holds the number and its chance)."""
 
 
 def power_level(speed: float) -> int:
@@ -53,9 +56,18 @@ class LocatedBall:
     number_chance: float | None = None
 
     @property
+    def sure_number(self) -> int | None:
+        """The number when the reader is fairly sure of it (chance >= :data:`SURE_NUMBER_CHANCE`), else None."""
+        if self.number is None or (self.number_chance is not None and self.number_chance < SURE_NUMBER_CHANCE):
+            return None
+        return self.number
+
+    @property
     def name(self) -> str:
-        """How a player calls the ball: ``3 ball (solid)`` when its number was read, else ``solid ball``."""
-        return f"{self.ball_class} ball" if self.number is None else f"{self.number} ball ({self.ball_class})"
+        """How a player calls the ball: ``3 ball (solid)`` when its number is read with some certainty, else
+        ``solid ball``."""
+        number = self.sure_number
+        return f"{self.ball_class} ball" if number is None else f"{number} ball ({self.ball_class})"
 
     def to_dict(self) -> dict:
         return {
