@@ -33,6 +33,8 @@ def score_split(root: str, split: str, reader: BallNumberReader, detector: OnnxD
     """Counts of right numbers per true number, for label boxes and for the photo pipeline."""
     folder = split_dir(root, split)
     metas = sorted((folder / "meta").glob("*.json"))[:limit]
+    if not metas:
+        raise SystemExit(f"{folder} has no renderer sidecars (meta/*.json): numbers need 'pix2pockets synth' renders")
     total = np.zeros(N_NUMBERS, int)
     right_labels = np.zeros(N_NUMBERS, int)
     right_photo = np.zeros(N_NUMBERS, int)
