@@ -259,6 +259,13 @@ def test_detect_with_a_missing_ball_refiner_is_a_clean_error(toy, tmp_path, caps
     assert not (tmp_path / "d.json").exists()
 
 
+def test_detect_with_a_missing_number_reader_is_a_clean_error(toy, tmp_path, capsys):
+    image = str(next((toy / "test" / "images").iterdir()))
+    rc = main(["detect", image, "--numbers", str(tmp_path / "no.onnx"), "--json", str(tmp_path / "d.json")])
+    assert rc != 0 and "ball-number reader model not found" in capsys.readouterr().err
+    assert not (tmp_path / "d.json").exists()
+
+
 def test_detect_with_a_missing_dot_refiner_is_a_clean_error(toy, tmp_path, capsys):
     image = str(next((toy / "test" / "images").iterdir()))
     rc = main(["detect", image, "--dot-refiner", str(tmp_path / "no.onnx"), "--json", str(tmp_path / "d.json")])
