@@ -47,11 +47,12 @@ def run(args: argparse.Namespace) -> int:
     raw = detector.detect(image)
     post = postprocess(raw, args.nms_iou)
     after = post.to_list()
+    numbers = np.full(len(post), -1)
     if reader is not None:
         balls = np.flatnonzero(post.is_ball)
-        numbers, chances = reader.numbers(image, post.boxes[balls], post.class_id[balls])
-        for i, number, chance in zip(balls, numbers, chances, strict=True):
-            after[i]["number"] = int(number) if number >= 0 else None
+        numbers[balls], chances = reader.numbers(image, post.boxes[balls], post.class_id[balls])
+        for i, chance in zip(balls, chances, strict=True):
+            after[i]["number"] = int(numbers[i]) if numbers[i] >= 0 else None
             after[i]["number_chance"] = round(float(chance), 4)
     report = {
         "image": str(args.image),
@@ -70,7 +71,7 @@ def run(args: argparse.Namespace) -> int:
         from pix2pockets.pipeline.draw import encode_picture
         from pix2pockets.vision.draw import draw_detections
 
-        picture = encode_picture(draw_detections(image, post, args.conf), Path(args.draw).suffix)
+        picture = encode_picture(draw_detections(image, post, args.conf, numbers), Path(args.draw).suffix)
     if args.json_out:
         write_atomic(args.json_out, json.dumps(report, indent=1))
     if picture is not None:
