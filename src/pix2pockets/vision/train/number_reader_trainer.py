@@ -22,9 +22,8 @@ from pix2pockets.vision.ball_numbers import class_mask
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.train.crop_classifier import CropNet, augment, export_crop_classifier
 from pix2pockets.vision.train.crop_data import CropConfig
-from pix2pockets.vision.train.crop_fit import fit_crops, predict_crops
+from pix2pockets.vision.train.crop_fit import fit_crops, labelled_sources, predict_crops
 from pix2pockets.vision.train.number_data import N_NUMBERS, collect_number_crops
-from pix2pockets.vision.yolo_data import load_split
 
 ONNX_NAME = "ball-numbers.onnx"
 CLASS_ID_OF_NUMBER = np.array([CLASS_OF_NUMBER[n] for n in range(N_NUMBERS)])
@@ -75,17 +74,6 @@ class NumberTrainConfig:
             )
 
 
-def _items(roots: tuple[str, ...], split: str) -> list:
-    out = []
-    for root in roots:
-        try:
-            out += load_split(root, split)
-        except ValueError:
-            if split == "train":
-                raise
-    return out
-
-
 def number_accuracy(probs: np.ndarray, numbers: np.ndarray) -> dict:
     """Accuracy of the most likely number overall and within each ball's true class, and per number within
     its class (numbers with no crops left out)."""
@@ -110,11 +98,11 @@ def train_number_reader(cfg: NumberTrainConfig, progress: bool = True) -> Path:
     out = Path(cfg.out)
     out.mkdir(parents=True, exist_ok=True)
     crop_cfg = CropConfig(copies=cfg.copies, centre_jitter=cfg.centre_jitter)
-    train_items = _items(cfg.data, "train")
+    train_items = [item for item, _ in labelled_sources(cfg.data, "train")]
     crops, numbers = collect_number_crops(train_items, read_image_rgb, cfg.seed, crop_cfg, cfg.min_visible, progress)
     if len(crops) == 0:
         raise ValueError(f"no labelled balls to train on in the train splits of {', '.join(cfg.data)}")
-    test_items = _items(cfg.data, "test")
+    test_items = [item for item, _ in labelled_sources(cfg.data, "test")]
     test_cfg = CropConfig(low_res=0.0)  # every held-out ball as the detector's box shows it, none left out
     test = collect_number_crops(test_items, read_image_rgb, cfg.seed + 1, test_cfg) if test_items else None
 
