@@ -18,14 +18,20 @@ from pathlib import Path
 import numpy as np
 from scipy.optimize import linear_sum_assignment
 
+from pix2pockets.state.ball import class_of_number
 from pix2pockets.vision.ball_crops import crops_of_boxes
+from pix2pockets.vision.classes import BALL_IDS, CLASS_NAMES
 from pix2pockets.vision.onnx_session import open_crop_model
 
 DEFAULT_NUMBER_READER = "ball-numbers.onnx"
 N_NUMBERS = 16
 """Ball numbers 0 (the cue ball) to 15."""
 OUTPUT_NAME = "probs"
-NUMBERS_OF_CLASS: tuple[tuple[int, ...], ...] = ((0,), (8,), tuple(range(1, 8)), tuple(range(9, 16)))
+CLASS_ID_OF_NUMBER = np.array([CLASS_NAMES.index(class_of_number(n).value) for n in range(N_NUMBERS)])
+"""Detector class id (0 cue, 1 black, 2 solid, 3 stripe) of each ball number 0-15."""
+NUMBERS_OF_CLASS: tuple[tuple[int, ...], ...] = tuple(
+    tuple(int(n) for n in np.flatnonzero(k == CLASS_ID_OF_NUMBER)) for k in BALL_IDS
+)
 """The numbers a ball of each detector class id may carry: cue 0, black 8, solid 1-7, stripe 9-15."""
 UNKNOWN = -1
 """Number given to a ball whose class has no number left (more balls of a class than the set holds)."""
@@ -36,10 +42,7 @@ def class_mask(class_ids: np.ndarray) -> np.ndarray:
     class_ids = np.asarray(class_ids, dtype=int).reshape(-1)
     if len(class_ids) and (class_ids.min() < 0 or class_ids.max() >= len(NUMBERS_OF_CLASS)):
         raise ValueError(f"ball class ids must be 0-3, got {sorted(set(class_ids.tolist()))}")
-    allowed = np.zeros((len(NUMBERS_OF_CLASS), N_NUMBERS), dtype=bool)
-    for k, numbers in enumerate(NUMBERS_OF_CLASS):
-        allowed[k, list(numbers)] = True
-    return allowed[class_ids]
+    return CLASS_ID_OF_NUMBER[None, :] == class_ids[:, None]
 
 
 def assign_numbers(probs: np.ndarray, class_ids: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -21,9 +21,9 @@ from pix2pockets.vision.ball_refiner import (
 )
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.train.ball_box_data import BallBoxCropConfig, collect_ball_box_crops
+from pix2pockets.vision.train.crop_fit import check_training_settings
 from pix2pockets.vision.train.refiner_trainer import (
     RefinerSpec,
-    check_training_settings,
     export_refiner,
     train_refiner,
 )
@@ -65,7 +65,7 @@ class BallRefinerTrainConfig:
     stretch: float = BallBoxCropConfig().stretch
 
     def __post_init__(self) -> None:
-        check_training_settings(self, SPEC)
+        check_training_settings(self, SPEC.command)
         if not 0 <= self.centre_jitter <= 0.3:
             raise ValueError(f"centre_jitter must be in [0, 0.3] ball diameters, got {self.centre_jitter}")
         if not 0 <= self.stretch <= 1:

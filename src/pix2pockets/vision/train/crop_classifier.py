@@ -21,7 +21,7 @@ from pix2pockets.vision.ball_classifier import OUTPUT_NAME
 from pix2pockets.vision.ball_crops import CROP_SIZE
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.train.crop_data import CROP_LABELS, CropConfig, collect_crops
-from pix2pockets.vision.train.crop_fit import fit_crops, labelled_sources, predict_crops
+from pix2pockets.vision.train.crop_fit import check_training_settings, fit_crops, labelled_sources, predict_crops
 from pix2pockets.vision.train.onnx_export import write_onnx
 from pix2pockets.vision.yolo_data import load_splits
 
@@ -126,18 +126,11 @@ class CropTrainConfig:
     crop_size: int = CROP_SIZE
 
     def __post_init__(self) -> None:
-        if not self.data:
-            raise ValueError("train-ball-classifier needs at least one --data folder")
-        if self.epochs < 1 or self.batch < 1 or self.threads < 1 or not self.lr > 0:
-            raise ValueError("epochs, batch and threads must be >= 1 and lr > 0")
+        check_training_settings(self, "train-ball-classifier")
         if not 0 <= self.class_power <= 1:
             raise ValueError(f"class_power must be in [0, 1], got {self.class_power}")
-        if len(self.widths) != 3 or min(self.widths) < 1:
-            raise ValueError(f"widths must be three positive channel counts, got {self.widths}")
         if self.head not in HEADS:
             raise ValueError(f"head must be one of {HEADS}, got {self.head!r}")
-        if self.copies < 1:
-            raise ValueError(f"copies must be >= 1, got {self.copies}")
         if self.crop_size < 16 or self.crop_size % 8:
             raise ValueError(f"crop_size must be a multiple of 8 and >= 16, got {self.crop_size}")
         if not 0 <= self.low_res <= 1:

@@ -1,6 +1,6 @@
-"""What the crop networks' training shares (ball classifier, diamond and ball refiners): AdamW with a cosine
-learning rate, shuffled batches, a progress bar; the labelled datasets they read; the refiners' flips and turns
-and their exported form."""
+"""What the crop networks' training shares (ball classifier, ball-number reader, diamond and ball refiners): the
+settings checks, AdamW with a cosine learning rate, shuffled batches, a progress bar; the labelled datasets they
+read; the refiners' flips and turns and their exported form."""
 
 from __future__ import annotations
 
@@ -15,6 +15,17 @@ from pix2pockets.vision.yolo_data import LabelledImage, dataset_class_map, load_
 
 BatchLoss = Callable[[nn.Module, torch.Tensor, torch.Tensor, torch.Generator], torch.Tensor]
 """(model, crops (B, 3, S, S) float 0-255, targets (B, ...), generator) -> loss; augments the batch itself."""
+
+
+def check_training_settings(cfg, command: str) -> None:
+    """The checks every crop network's training config shares (``data``, ``epochs``, ``batch``, ``threads``,
+    ``copies``, ``lr``, ``widths``); `command` names the training command in the message. Raises ValueError."""
+    if not cfg.data:
+        raise ValueError(f"{command} needs at least one --data folder")
+    if min(cfg.epochs, cfg.batch, cfg.threads, cfg.copies) < 1 or not cfg.lr > 0:
+        raise ValueError("epochs, batch, threads and copies must be >= 1 and lr > 0")
+    if len(cfg.widths) != 3 or min(cfg.widths) < 1:
+        raise ValueError(f"widths must be three positive channel counts, got {cfg.widths}")
 
 
 def labelled_sources(roots: Sequence[str], split: str) -> list[tuple[LabelledImage, dict[int, int]]]:

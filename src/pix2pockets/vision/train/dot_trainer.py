@@ -20,10 +20,10 @@ from pix2pockets.vision.dot_refiner import (
     OUTPUT_NAME,
 )
 from pix2pockets.vision.image_io import read_image_rgb
+from pix2pockets.vision.train.crop_fit import check_training_settings
 from pix2pockets.vision.train.dot_data import DotCropConfig, collect_dot_crops
 from pix2pockets.vision.train.refiner_trainer import (
     RefinerSpec,
-    check_training_settings,
     export_refiner,
     train_refiner,
 )
@@ -62,7 +62,7 @@ class DotTrainConfig:
     centre_jitter: float = DotCropConfig().centre_jitter
 
     def __post_init__(self) -> None:
-        check_training_settings(self, SPEC)
+        check_training_settings(self, SPEC.command)
         if not 0 <= self.centre_jitter <= 2:
             raise ValueError(f"centre_jitter must be in [0, 2] diamond sides, got {self.centre_jitter}")
 

@@ -14,11 +14,8 @@ from pathlib import Path
 import numpy as np
 
 from pix2pockets.vision.ball_crops import ball_diameters, crop_balls
-from pix2pockets.vision.ball_numbers import N_NUMBERS
 from pix2pockets.vision.train.crop_data import CropConfig, collect_from_images, degrade_crops
 from pix2pockets.vision.yolo_data import LabelledImage
-
-__all__ = ["N_NUMBERS", "collect_number_crops", "meta_path", "number_crops", "numbered_balls"]
 
 
 def meta_path(image_path: Path) -> Path:

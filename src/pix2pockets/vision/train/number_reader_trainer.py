@@ -16,18 +16,15 @@ import numpy as np
 import torch
 from torch import nn
 
-from pix2pockets.synth.labels import CLASS_OF_NUMBER
 from pix2pockets.vision.ball_crops import CROP_SIZE
-from pix2pockets.vision.ball_numbers import class_mask
+from pix2pockets.vision.ball_numbers import CLASS_ID_OF_NUMBER, N_NUMBERS, class_mask
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.train.crop_classifier import CropNet, augment, export_crop_classifier
 from pix2pockets.vision.train.crop_data import CropConfig
-from pix2pockets.vision.train.crop_fit import fit_crops, labelled_sources, predict_crops
-from pix2pockets.vision.train.number_data import N_NUMBERS, collect_number_crops
+from pix2pockets.vision.train.crop_fit import check_training_settings, fit_crops, labelled_sources, predict_crops
+from pix2pockets.vision.train.number_data import collect_number_crops
 
 ONNX_NAME = "ball-numbers.onnx"
-CLASS_ID_OF_NUMBER = np.array([CLASS_OF_NUMBER[n] for n in range(N_NUMBERS)])
-"""Detector ball class id (0 cue, 1 black, 2 solid, 3 stripe) of each ball number."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -61,12 +58,7 @@ class NumberTrainConfig:
     min_visible: float = 0.3
 
     def __post_init__(self) -> None:
-        if not self.data:
-            raise ValueError("train-ball-numbers needs at least one --data folder")
-        if self.epochs < 1 or self.batch < 1 or self.threads < 1 or self.copies < 1 or not self.lr > 0:
-            raise ValueError("epochs, batch, threads and copies must be >= 1 and lr > 0")
-        if len(self.widths) != 3 or min(self.widths) < 1:
-            raise ValueError(f"widths must be three positive channel counts, got {self.widths}")
+        check_training_settings(self, "train-ball-numbers")
         if not 0 <= self.centre_jitter < 0.5 or not 0 <= self.min_visible <= 1:
             raise ValueError(
                 f"centre_jitter must be in [0, 0.5) and min_visible in [0, 1], got "

@@ -86,17 +86,6 @@ class RefinerSpec:
     file_name: str
 
 
-def check_training_settings(cfg, spec: RefinerSpec) -> None:
-    """The checks every refiner config shares (``data``, ``epochs``, ``batch``, ``threads``, ``copies``, ``lr``,
-    ``widths``); raises ValueError."""
-    if not cfg.data:
-        raise ValueError(f"{spec.command} needs at least one --data folder")
-    if min(cfg.epochs, cfg.batch, cfg.threads, cfg.copies) < 1 or not cfg.lr > 0:
-        raise ValueError("epochs, batch, threads and copies must be >= 1 and lr > 0")
-    if len(cfg.widths) != 3 or min(cfg.widths) < 1:
-        raise ValueError(f"widths must be three positive channel counts, got {cfg.widths}")
-
-
 def export_refiner(model: nn.Module, path: Path, spec: RefinerSpec) -> Path:
     """Write a refiner (uint8 NHWC crops in, (N, k) outputs out) as ONNX with a dynamic batch."""
     example = torch.zeros(2, spec.crop_size, spec.crop_size, 3, dtype=torch.uint8)
