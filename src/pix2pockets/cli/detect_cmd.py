@@ -20,12 +20,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--draw", default=None, help="also write the post-processed detections drawn on the image (.png or .jpg)"
     )
-    parser.add_argument(
-        "--numbers",
-        default=None,
-        help="ball-number reader ONNX naming each ball after post-processing (default: the bundled one; 'none': "
-        "classes only)",
-    )
     parser.add_argument("--force", action="store_true", help="overwrite existing output files")
     parser.set_defaults(func=run)
 
@@ -34,7 +28,6 @@ def run(args: argparse.Namespace) -> int:
     import numpy as np
 
     from pix2pockets.vision.image_io import read_image_rgb
-    from pix2pockets.vision.onnx_detector import number_reader_from_option
     from pix2pockets.vision.postprocess import postprocess
 
     if not (args.json_out or args.draw):
@@ -43,7 +36,7 @@ def run(args: argparse.Namespace) -> int:
     check_output(args.draw, args.force, (".png", ".jpg", ".jpeg"))
     image = read_image_rgb(args.image)
     detector = detector_from_args(args, args.conf)
-    reader = number_reader_from_option(args.numbers, args.threads)
+    reader = detector.number_reader
     raw = detector.detect(image)
     post = postprocess(raw, args.nms_iou)
     after = post.to_list()

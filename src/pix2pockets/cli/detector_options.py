@@ -7,7 +7,7 @@ from pathlib import Path
 
 
 def add_model_options(parser: argparse.ArgumentParser) -> None:
-    """--model, --classifier, --dot-refiner and --ball-refiner."""
+    """--model, --classifier, --dot-refiner, --ball-refiner and --numbers."""
     parser.add_argument("--model", default=None, help="detector ONNX model (default: the bundled one)")
     parser.add_argument(
         "--classifier",
@@ -27,10 +27,16 @@ def add_model_options(parser: argparse.ArgumentParser) -> None:
         help="ball refiner ONNX re-reading each ball's box from full-resolution crops (default: the bundled one; "
         "'none': the detector's own ball boxes)",
     )
+    parser.add_argument(
+        "--numbers",
+        default=None,
+        help="ball-number reader ONNX: weighs the ball classes across the table (each number once) and names each "
+        "ball (default: the bundled one; 'none': classes only)",
+    )
 
 
 def add_detector_options(parser: argparse.ArgumentParser) -> None:
-    """--model, --classifier, --dot-refiner, --ball-refiner, --input-size, --max-input-size and --threads."""
+    """The model options (:func:`add_model_options`), --input-size, --max-input-size and --threads."""
     add_model_options(parser)
     parser.add_argument(
         "--input-size", type=int, default=640, help="network input long side for images up to this size (default 640)"
@@ -53,6 +59,7 @@ def detector_from_args(args: argparse.Namespace, conf_threshold: float):
         classifier_from_option,
         default_model_path,
         dot_refiner_from_option,
+        number_reader_from_option,
     )
 
     model = Path(args.model) if args.model else default_model_path()
@@ -65,13 +72,14 @@ def detector_from_args(args: argparse.Namespace, conf_threshold: float):
     classifier = classifier_from_option(args.classifier, args.threads)
     dot_refiner = dot_refiner_from_option(args.dot_refiner, args.threads)
     ball_refiner = ball_refiner_from_option(args.ball_refiner, args.threads)
-    return OnnxDetector(model, config, classifier, dot_refiner, ball_refiner)
+    numbers = number_reader_from_option(args.numbers, args.threads)
+    return OnnxDetector(model, config, classifier, dot_refiner, ball_refiner, numbers)
 
 
 def chosen_detector(args: argparse.Namespace):
-    """The detector ``--model`` / ``--classifier`` / ``--dot-refiner`` / ``--ball-refiner`` ask for, or None when none
-    is given (use the default)."""
-    if not (args.model or args.classifier or args.dot_refiner or args.ball_refiner):
+    """The detector ``--model`` / ``--classifier`` / ``--dot-refiner`` / ``--ball-refiner`` / ``--numbers`` ask for, or
+    None when none is given (use the default)."""
+    if not (args.model or args.classifier or args.dot_refiner or args.ball_refiner or args.numbers):
         return None
     from pix2pockets.vision.onnx_detector import (
         OnnxDetector,
@@ -79,6 +87,7 @@ def chosen_detector(args: argparse.Namespace):
         classifier_from_option,
         default_model_path,
         dot_refiner_from_option,
+        number_reader_from_option,
     )
 
     return OnnxDetector(
@@ -86,4 +95,5 @@ def chosen_detector(args: argparse.Namespace):
         classifier=classifier_from_option(args.classifier),
         dot_refiner=dot_refiner_from_option(args.dot_refiner),
         ball_refiner=ball_refiner_from_option(args.ball_refiner),
+        number_reader=number_reader_from_option(args.numbers),
     )

@@ -117,8 +117,9 @@ def suggest(
         rng: randomness for the planner (a fixed seed when ``None``).
         measure_rail_height: measure the diamond-plane height above the cloth from the cushion noses
             (:mod:`pix2pockets.vision.rail_height`); otherwise the typical height is assumed.
-        number_reader: reads each ball's number (``True``: the bundled reader when present; ``False`` or
-            ``None``: balls are named by class only).
+        number_reader: reads each ball's number (``True``: the detector's own reader when it has one, like the
+            bundled ONNX detector, else the bundled reader when present; ``False`` or ``None``: balls are named by
+            class only).
 
     Raises:
         ValueError: unreadable image, no table found, too few table points, no cue ball, no balls of the
@@ -156,7 +157,9 @@ def suggest(
     timings["locate"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    reader = default_number_reader() if number_reader is True else (number_reader or None)
+    reader = number_reader or None
+    if number_reader is True:  # the detector's own reader when it has that stage, else the bundled one
+        reader = detector.number_reader if hasattr(detector, "number_reader") else default_number_reader()
     kept = located.detections
     if reader is not None and len(kept):
         numbers, chances = reader.numbers(rgb, kept.boxes, kept.class_id)

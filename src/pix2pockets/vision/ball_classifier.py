@@ -15,6 +15,7 @@ import numpy as np
 from pix2pockets.vision.ball_crops import crops_of_boxes
 from pix2pockets.vision.classes import BALL_IDS, ONE_PER_TABLE
 from pix2pockets.vision.detections import Detections
+from pix2pockets.vision.number_posterior import table_class_scores
 from pix2pockets.vision.onnx_session import open_crop_model
 from pix2pockets.vision.postprocess import at_most_one_posterior
 
@@ -75,8 +76,22 @@ class BallClassifier:
         return self.session.run(None, {self.input_name: crops})[0]
 
 
+def own_class_scores(ball_score: np.ndarray, class_heat: np.ndarray, probs: np.ndarray) -> np.ndarray:
+    """(n, 4) each ball's own cue, black, solid and stripe scores, before any weighing across the image:
+    ball score x sqrt(p_k x h_k / sum(h)) (:func:`classified_balls`)."""
+    n, k = len(ball_score), len(BALL_IDS)
+    probs = np.asarray(probs, dtype=float).reshape(n, N_OUTPUTS)
+    heat = np.asarray(class_heat, dtype=float).reshape(n, k)
+    share = heat / np.maximum(heat.sum(axis=1, keepdims=True), 1e-9)
+    return np.asarray(ball_score, dtype=float)[:, None] * np.sqrt(probs[:, :k] * share)
+
+
 def classified_balls(
-    balls: Detections, class_heat: np.ndarray, probs: np.ndarray, conf_threshold: float = 0.05
+    balls: Detections,
+    class_heat: np.ndarray,
+    probs: np.ndarray,
+    conf_threshold: float = 0.05,
+    number_probs: np.ndarray | None = None,
 ) -> Detections:
     """Ball detections with one entry per ball and class, scored by the detector and the classifier together.
 
@@ -91,20 +106,25 @@ def classified_balls(
     score, the kind being usually in view (:data:`IN_VIEW_ABSENT_ODDS`). The scores before that are kept as
     ``own_score``.
 
+    With the ball-number reader's chances for the same balls, the scores of every class are weighed across the
+    image instead, each of the 16 numbers being on the table once
+    (:func:`pix2pockets.vision.number_posterior.table_class_scores`): a ball read as much like the 12 as like the 4
+    is the 4 when another ball is clearly the 12.
+
     Args:
         balls: class-agnostic ball detections (the "any ball" heatmap peaks), class ids ignored.
         class_heat: (n, 4) the detector's cue, black, solid and stripe heatmap scores at those peaks.
         probs: (n, 5) classifier output for those balls (cue, black, solid, stripe, no ball).
         conf_threshold: entries below this score are dropped.
+        number_probs: (n, 16) the ball-number reader's chances of numbers 0-15 for those balls, or None.
     """
-    n, k = len(balls), len(BALL_IDS)
-    probs = np.asarray(probs, dtype=float).reshape(n, N_OUTPUTS)
-    heat = np.asarray(class_heat, dtype=float).reshape(n, k)
-    share = heat / np.maximum(heat.sum(axis=1, keepdims=True), 1e-9)
-    own = balls.confidence[:, None] * np.sqrt(probs[:, :k] * share)
-    score = own.copy()
-    for kind in ONE_PER_TABLE:  # score columns are the ball class ids (BALL_IDS, 0-3)
-        score[:, kind] = at_most_one_posterior(own[:, kind], IN_VIEW_ABSENT_ODDS)
+    own = own_class_scores(balls.confidence, class_heat, probs)
+    if number_probs is not None:
+        score = table_class_scores(own, number_probs, IN_VIEW_ABSENT_ODDS)
+    else:
+        score = own.copy()
+        for kind in ONE_PER_TABLE:  # score columns are the ball class ids (BALL_IDS, 0-3)
+            score[:, kind] = at_most_one_posterior(own[:, kind], IN_VIEW_ABSENT_ODDS)
     keep = own >= conf_threshold
     rows, cls = np.nonzero(keep)
     return Detections(balls.boxes[rows], score[keep], np.asarray(BALL_IDS)[cls], balls.contact[rows], own[keep])

@@ -13,7 +13,12 @@ from pathlib import Path
 
 import numpy as np
 
-from pix2pockets.vision.ball_classifier import BallClassifier, classified_balls, default_classifier_path
+from pix2pockets.vision.ball_classifier import (
+    BallClassifier,
+    classified_balls,
+    default_classifier_path,
+    own_class_scores,
+)
 from pix2pockets.vision.ball_numbers import BallNumberReader, default_number_reader_path
 from pix2pockets.vision.ball_refiner import BallRefiner, default_ball_refiner_path
 from pix2pockets.vision.classes import BALL_IDS, DOT_ID
@@ -86,6 +91,10 @@ class OnnxDetector:
             boxes.
         ball_refiner: optional second stage that re-reads each ball's box from the full-resolution photo before the
             classifier reads it (``pix2pockets train-ball-refiner``); None keeps the detector's boxes.
+        number_reader: optional stage, used with a classifier, that reads each ball's number so that the class
+            scores are weighed across the table with every number on it at most once
+            (:mod:`pix2pockets.vision.number_posterior`; ``pix2pockets train-ball-numbers``); None weighs only the
+            cue ball and the 8 that way.
 
     Raises:
         ValueError: if the file does not exist or is not a model of the expected form.
@@ -98,11 +107,13 @@ class OnnxDetector:
         classifier: BallClassifier | None = None,
         dot_refiner: DotRefiner | None = None,
         ball_refiner: BallRefiner | None = None,
+        number_reader: BallNumberReader | None = None,
     ) -> None:
         self.config = config or OnnxDetectorConfig()
         self.classifier = classifier
         self.dot_refiner = dot_refiner
         self.ball_refiner = ball_refiner
+        self.number_reader = number_reader
         self.session = open_session(model_path, self.config.threads, "detector model")
         self.input_name = self.session.get_inputs()[0].name
         self.model_path = Path(model_path)
@@ -112,7 +123,7 @@ class OnnxDetector:
         """The detector shipped with the package, with the shipped second stages when there are any."""
         threads = (config or OnnxDetectorConfig()).threads
         stages = default_classifier(threads), default_dot_refiner(threads), default_ball_refiner(threads)
-        return cls(default_model_path(), config, *stages)
+        return cls(default_model_path(), config, *stages, number_reader_from_option(None, threads))
 
     def _forward(self, image_rgb: np.ndarray):
         image = np.asarray(image_rgb)
@@ -133,7 +144,12 @@ class OnnxDetector:
             balls, heat = decode_ball_peaks(out, box, c.conf_threshold, c.max_detections, image_size=size)
             balls, aspect = self._refined(image_rgb, balls)
             probs = self.classifier.classify(image_rgb, balls.boxes, aspect)
-            balls = classified_balls(balls, heat, probs, c.conf_threshold)
+            numbers = None
+            if self.number_reader is not None:  # read only the candidates that can become detections
+                scored = own_class_scores(balls.confidence, heat, probs).max(axis=1) >= c.conf_threshold
+                balls, heat, probs = balls[scored], heat[scored], probs[scored]
+                numbers = self.number_reader.read(image_rgb, balls.boxes, aspect)
+            balls = classified_balls(balls, heat, probs, c.conf_threshold, numbers)
         dots = decode_peaks(out, box, c.conf_threshold, c.max_detections, channels=(DOT_ID,), image_size=size)
         if self.dot_refiner is not None:
             dots = self.dot_refiner.refine(image_rgb, dots)
