@@ -138,26 +138,32 @@ def resolve_ball_classes(det: Detections, iou_threshold: float = DEFAULT_NMS_IOU
     AP50 from 71 to 82 over ranking by score (``docs/benchmarks-detector.md``). The chosen cue ball's
     confidence is then its :func:`at_most_one_posterior` (cue AP50 +1 to +2 on the test renders).
 
-    Balls are grouped and classed by each entry's ``own_score``: a detector that reports the cue and the 8
-    as image-level chances (:func:`pix2pockets.vision.ball_classifier.classified_balls`) is resolved as one
-    that does not.
+    Balls are grouped, and the cue and the 8 claimed, by each entry's ``own_score``: a detector that reports
+    the cue and the 8 as image-level chances (:func:`pix2pockets.vision.ball_classifier.classified_balls`) is
+    resolved as one that does not. Solid or stripe, and that score, come from each entry's confidence, which
+    such a detector may have weighed across the table by the balls' numbers
+    (:mod:`pix2pockets.vision.number_posterior`; stripes and solids AP50 after +1 to +2 on the validation
+    renders); for other detectors the two scores are the same.
     """
     balls, dots = det[det.is_ball], det[det.is_dot]
     if not len(balls):
         return postprocess(det, iou_threshold)
     used = np.zeros(len(balls), dtype=bool)
-    leaders, scores = [], []
+    leaders, scores, table_scores = [], [], []
     own = balls.own_score
     for i in np.argsort(-own, kind="stable"):
         if used[i]:
             continue
         members = np.flatnonzero((box_iou(balls.boxes[i : i + 1], balls.boxes)[0] >= iou_threshold) & ~used)
         used[members] = True
-        per_class = np.zeros(4)
+        per_class, per_class_table = np.zeros(4), np.zeros(4)
         np.maximum.at(per_class, balls.class_id[members], own[members])
+        np.maximum.at(per_class_table, balls.class_id[members], balls.confidence[members])
         leaders.append(i)
         scores.append(per_class)
+        table_scores.append(per_class_table)
     S = np.array(scores)
+    T = np.array(table_scores)
     best = np.maximum(S.max(axis=1), 1e-9)
     assigned = np.full(len(S), -1)
     share = S / np.maximum(S.sum(axis=1, keepdims=True), 1e-9)
@@ -169,8 +175,8 @@ def resolve_ball_classes(det: Detections, iou_threshold: float = DEFAULT_NMS_IOU
         if claim[j] > 0:
             assigned[j] = k
     rest = assigned < 0
-    assigned[rest] = 2 + np.argmax(S[rest, 2:], axis=1)
-    conf = S[np.arange(len(S)), assigned]
+    assigned[rest] = 2 + np.argmax(T[rest, 2:], axis=1)
+    conf = np.where(assigned >= 2, T[np.arange(len(S)), assigned], S[np.arange(len(S)), assigned])
     conf = np.where(conf > 0, conf, S.max(axis=1))
     conf[assigned == 0] = at_most_one_posterior(S[:, 0])[assigned == 0]
     idx = np.asarray(leaders, dtype=int)
