@@ -1,10 +1,11 @@
-"""Detector CPU latency with onnxruntime: pre-processing + network + ball refiner + ball classifier + diamond refiner +
-decoding + post-processing per image, on synthetic renders of common photo sizes (640 px; 720p and 1080p frames run at
-the 1024 px default maximum input).
+"""Detector CPU latency with onnxruntime: pre-processing + network + ball refiner + ball classifier + ball-number
+reader + diamond refiner + decoding + post-processing per image, on synthetic renders of common photo sizes
+(640 px; 720p and 1080p frames run at the 1024 px default maximum input).
 
 Usage:
     PYTHONPATH=src python benchmarks/detector.py [--model PATH] [--classifier PATH|none]
-        [--dot-refiner PATH|none] [--ball-refiner PATH|none] [--threads 1] [--repeats 20] [--json OUT.json]
+        [--dot-refiner PATH|none] [--ball-refiner PATH|none] [--numbers PATH|none] [--threads 1] [--repeats 20]
+        [--json OUT.json]
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from pix2pockets.vision.onnx_detector import (
     classifier_from_option,
     default_model_path,
     dot_refiner_from_option,
+    number_reader_from_option,
 )
 from pix2pockets.vision.postprocess import postprocess
 
@@ -57,6 +59,7 @@ def main() -> None:
     parser.add_argument("--classifier", default=None, help="ball classifier ONNX, 'none' (default: bundled)")
     parser.add_argument("--dot-refiner", default=None, help="diamond refiner ONNX, 'none' (default: bundled)")
     parser.add_argument("--ball-refiner", default=None, help="ball refiner ONNX, 'none' (default: bundled)")
+    parser.add_argument("--numbers", default=None, help="ball-number reader ONNX, 'none' (default: bundled)")
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--repeats", type=int, default=20)
     parser.add_argument("--json", default=None)
@@ -64,21 +67,25 @@ def main() -> None:
     classifier = classifier_from_option(args.classifier, args.threads)
     refiner = dot_refiner_from_option(args.dot_refiner, args.threads)
     balls = ball_refiner_from_option(args.ball_refiner, args.threads)
-    detector = OnnxDetector(args.model, OnnxDetectorConfig(threads=args.threads), classifier, refiner, balls)
+    numbers = number_reader_from_option(args.numbers, args.threads)
+    config = OnnxDetectorConfig(threads=args.threads)
+    detector = OnnxDetector(args.model, config, classifier, refiner, balls, numbers)
     rows = [measure(detector, s, args.repeats) for s in SIZES]
     clf = classifier.model_path.name if classifier else "none"
     ref = refiner.model_path.name if refiner else "none"
     ball_ref = balls.model_path.name if balls else "none"
+    reader = numbers.model_path.name if numbers else "none"
     size_mb = Path(args.model).stat().st_size / 1e6
     print(
         f"model {args.model} ({size_mb:.1f} MB), classifier {clf}, diamond refiner {ref}, ball refiner {ball_ref}, "
-        f"onnxruntime threads {args.threads}"
+        f"number reader {reader}, onnxruntime threads {args.threads}"
     )
     print(f"{'image px':>10} {'median ms':>10} {'p90 ms':>8} {'min ms':>8}")
     for r in rows:
         print(f"{'x'.join(map(str, r['image_px'])):>10} {r['median_ms']:>10} {r['p90_ms']:>8} {r['min_ms']:>8}")
     if args.json:
         out = {"model": args.model, "classifier": clf, "dot_refiner": ref, "ball_refiner": ball_ref}
+        out["number_reader"] = reader
         out["threads"] = args.threads
         out["machine"] = platform.machine()
         out["results"] = rows

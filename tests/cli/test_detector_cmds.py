@@ -43,6 +43,20 @@ def test_evaluate_class_aware_post_processing_is_recorded(toy, tmp_path):
     assert not (tmp_path / "x.json").exists()
 
 
+def test_evaluate_with_and_without_the_number_reader(toy, tmp_path):
+    from pix2pockets.vision.ball_numbers import default_number_reader_path
+    from pix2pockets.vision.onnx_detector import default_model_path
+
+    if not (default_model_path().exists() and default_number_reader_path().exists()):
+        pytest.skip("needs the committed detector and ball-number reader")
+    models = {}
+    for option in ([], ["--numbers", "none"]):
+        out = tmp_path / f"e{len(option)}.json"
+        assert main(["evaluate", "detector", "--data", str(toy), *option, "--json", str(out), "--quiet"]) == 0
+        models[len(option)] = json.loads(out.read_text())["model"]
+    assert "ball-numbers.onnx" in models[0] and "ball-numbers.onnx" not in models[2]
+
+
 def test_evaluate_missing_split_is_clean_error(toy, tmp_path, capsys):
     args = ["evaluate", "detector", "--data", str(toy), "--split", "nope", "--detector", "hough"]
     rc = main([*args, "--json", str(tmp_path / "x.json")])

@@ -91,3 +91,18 @@ def test_shipped_classifier_tells_ball_classes_apart_on_a_fresh_render():
     assert np.allclose(probs.sum(axis=1), 1.0, atol=1e-4)
     assert (probs.argmax(axis=1) == truth).mean() >= 0.6
     assert probs[:, 4].mean() < 0.5  # balls are not read as "no ball"
+
+
+def test_ball_numbers_weigh_every_class_across_the_table():
+    heat = np.array([[0.0, 0.0, 0.5, 0.5], [0.0, 0.0, 0.0, 1.0]])
+    probs = np.array([[0.0, 0.0, 0.5, 0.5, 0.0], [0.0, 0.0, 0.0, 1.0, 0.0]])
+    numbers = np.full((2, 16), 0.01)
+    numbers[0, [5, 13]] = 0.43  # ball 0 is the orange 5 or 13; ball 1 is clearly the 13
+    numbers[1, 13] = 0.85
+    plain = classified_balls(_balls(2), heat, probs, conf_threshold=0.01)
+    weighed = classified_balls(_balls(2), heat, probs, conf_threshold=0.01, number_probs=numbers)
+    np.testing.assert_allclose(weighed.own_score, plain.own_score)
+    first = weighed.boxes[:, 0] == weighed.boxes[:, 0].min()
+    solid, stripe = (weighed.confidence[first & (weighed.class_id == k)][0] for k in (2, 3))
+    assert solid > 2 * stripe
+    assert postprocess(weighed).class_id[np.argmin(postprocess(weighed).boxes[:, 0])] == 2

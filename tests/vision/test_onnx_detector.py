@@ -73,3 +73,24 @@ def test_the_shipped_ball_refiner_tightens_the_ball_boxes_of_renders():
     refined, raw = np.array(refined), np.array(raw)
     assert refined.mean() > raw.mean() + 0.02
     assert (refined > 0.75).sum() > (raw > 0.75).sum()
+
+
+@_needs_model
+def test_the_number_reader_reweighs_ball_classes_and_leaves_the_rest():
+    pytest.importorskip("pix2pockets.synth")
+    from pix2pockets.vision.ball_numbers import default_number_reader_path
+
+    if not default_number_reader_path().exists():
+        pytest.skip("no ball-number reader committed")
+    with_numbers = OnnxDetector.from_default()
+    assert with_numbers.number_reader is not None
+    stages = with_numbers.classifier, with_numbers.dot_refiner, with_numbers.ball_refiner
+    without = OnnxDetector(default_model_path(), None, *stages)
+    image = _render((4246, 0), (640, 360)).image
+    a, b = with_numbers.detect(image), without.detect(image)
+    np.testing.assert_allclose(a[a.is_dot].boxes, b[b.is_dot].boxes)
+    balls_a, balls_b = a[a.is_ball], b[b.is_ball]
+    assert 0 < len(balls_a) == len(balls_b)  # the same entries with their own scores ...
+    np.testing.assert_allclose(np.sort(balls_a.own_score), np.sort(balls_b.own_score))
+    assert np.all((balls_a.confidence >= 0) & (balls_a.confidence <= 1))  # ... weighed otherwise
+    assert not np.allclose(np.sort(balls_a.confidence), np.sort(balls_b.confidence))

@@ -167,3 +167,16 @@ def test_resolved_cue_confidence_drops_when_another_ball_is_as_cue_like():
     c_alone = resolve_ball_classes(alone)
     c_rival = resolve_ball_classes(rival)
     assert c_alone.confidence[c_alone.class_id == 0][0] > c_rival.confidence[c_rival.class_id == 0][0]
+
+
+def test_solid_or_stripe_follows_the_table_wide_scores():
+    boxes = np.array([_ball(0), _ball(0.5), _ball(100)])
+    cls = np.array([2, 3, 2])
+    own = np.array([0.45, 0.5, 0.9])  # ball 1 looks a little more like a stripe on its own
+    weighed = np.array([0.7, 0.2, 0.9])  # but its stripe number is taken elsewhere on the table
+    plain = resolve_ball_classes(Detections(boxes, own, cls))
+    out = resolve_ball_classes(Detections(boxes, weighed, cls, own_score=own))
+    first = np.argmin(out.boxes[:, 0])
+    assert plain.class_id[np.argmin(plain.boxes[:, 0])] == 3
+    assert out.class_id[first] == 2
+    assert out.confidence[first] == pytest.approx(0.7)

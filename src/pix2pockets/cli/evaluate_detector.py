@@ -63,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
     else:
         detector = detector_from_args(args, 0.01)
         model = str(detector.model_path)
-        for stage in (detector.ball_refiner, detector.classifier, detector.dot_refiner):
+        for stage in (detector.ball_refiner, detector.classifier, detector.number_reader, detector.dot_refiner):
             if stage is not None:
                 model += f" + {stage.model_path}"
     if args.table_class is not None and not args.agnostic:
