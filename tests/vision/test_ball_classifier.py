@@ -106,3 +106,14 @@ def test_ball_numbers_weigh_every_class_across_the_table():
     solid, stripe = (weighed.confidence[first & (weighed.class_id == k)][0] for k in (2, 3))
     assert solid > 2 * stripe
     assert postprocess(weighed).class_id[np.argmin(postprocess(weighed).boxes[:, 0])] == 2
+
+
+def test_balls_that_read_alike_are_not_weighed_by_number():
+    n = 7  # seven red pub balls: all read as the 3, no numbers to go by
+    heat = np.tile([0.0, 0.0, 0.8, 0.2], (n, 1))
+    probs = np.tile([0.0, 0.0, 0.8, 0.2, 0.0], (n, 1))
+    numbers = np.full((n, 16), 0.01)
+    numbers[:, 3] = 0.85
+    plain = classified_balls(_balls(n), heat, probs, conf_threshold=0.01)
+    read = classified_balls(_balls(n), heat, probs, conf_threshold=0.01, number_probs=numbers)
+    np.testing.assert_allclose(read.confidence, plain.confidence)

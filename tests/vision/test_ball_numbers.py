@@ -5,11 +5,15 @@ import pytest
 
 from pix2pockets.vision.ball_numbers import (
     N_NUMBERS,
+    STRAIN_OF_A_NUMBERED_SET,
+    STRAIN_OF_AN_UNNUMBERED_SET,
     UNKNOWN,
     BallNumberReader,
     assign_numbers,
     class_mask,
     default_number_reader_path,
+    numbered_set_weight,
+    numbering_strain,
 )
 from pix2pockets.vision.classes import CLASS_NAMES
 
@@ -50,10 +54,31 @@ def test_each_number_once_the_likeliest_numbering_of_the_table():
 
 
 def test_more_balls_of_a_class_than_the_set_holds_leaves_the_least_likely_unknown():
-    probs = _probs({0: 0.9}, {0: 0.4})
-    numbers, chance = assign_numbers(probs, np.array([CUE, CUE]))
-    assert numbers.tolist() == [0, UNKNOWN]
+    others = ({3: 0.9}, {8: 0.9}, {11: 0.9}, {5: 0.9}, {13: 0.9}, {2: 0.9})  # the rest of the table reads plainly
+    probs = _probs({0: 0.9}, {0: 0.4}, *others)
+    numbers, chance = assign_numbers(probs, np.array([CUE, CUE, SOLID, BLACK, STRIPE, SOLID, STRIPE, SOLID]))
+    assert numbers.tolist() == [0, UNKNOWN, 3, 8, 11, 5, 13, 2]
     assert chance[1] == 0.0
+
+
+def test_a_standard_set_reads_as_numbered_and_look_alike_balls_do_not():
+    standard = _probs(*({n: 0.8} for n in range(16)))
+    assert numbering_strain(standard) == pytest.approx(0.0)
+    assert numbered_set_weight(numbering_strain(standard)) == 1.0
+    pub = _probs(*([{3: 0.8, 7: 0.1}] * 7 + [{1: 0.7, 9: 0.2}] * 7))  # seven reds, seven yellows, no numbers
+    assert numbering_strain(pub) > STRAIN_OF_AN_UNNUMBERED_SET
+    numbers, chance = assign_numbers(pub, np.array([SOLID] * 7 + [STRIPE] * 7))
+    assert np.all(numbers == UNKNOWN) and np.all(chance == 0.0)
+    snooker = _probs(*([{3: 0.9}] * 15 + [{n: 0.9} for n in (0, 1, 2, 4, 5, 6, 10)]))  # 22 balls, 15 reds
+    assert numbered_set_weight(numbering_strain(snooker)) == 0.0
+    assert numbering_strain(np.zeros((0, N_NUMBERS))) == 0.0
+
+
+def test_the_trust_in_numbers_falls_linearly_between_the_two_strains():
+    assert numbered_set_weight(STRAIN_OF_A_NUMBERED_SET) == 1.0
+    assert numbered_set_weight(STRAIN_OF_AN_UNNUMBERED_SET) == 0.0
+    middle = (STRAIN_OF_A_NUMBERED_SET + STRAIN_OF_AN_UNNUMBERED_SET) / 2
+    assert numbered_set_weight(middle) == pytest.approx(0.5)
 
 
 def test_empty_table_and_mismatched_rows():

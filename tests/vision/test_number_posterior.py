@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from pix2pockets.vision.ball_numbers import N_NUMBERS
-from pix2pockets.vision.number_posterior import matching_marginals, table_class_scores
+from pix2pockets.vision.number_posterior import matching_marginals, numbered_table_weight, table_class_scores
 from pix2pockets.vision.postprocess import at_most_one_posterior
 
 CUE, BLACK, SOLID, STRIPE = range(4)
@@ -75,3 +75,11 @@ def test_empty_table_and_bad_shapes():
         matching_marginals(-np.ones((2, 3)), 0.5)
     with pytest.raises(ValueError, match="absent_odds"):
         matching_marginals(np.ones((2, 3)), 0.0)
+
+
+def test_only_likely_balls_show_whether_the_set_is_numbered():
+    own = np.array([[0.0, 0.0, 0.9, 0.0]] * 3 + [[0.0, 0.0, 0.1, 0.0]] * 3)
+    reads = _numbers({1: 0.9}, {2: 0.9}, {3: 0.9}, {3: 0.9}, {3: 0.9}, {3: 0.9})
+    assert numbered_table_weight(own, reads) == 1.0  # the three faint candidates reading "3" do not count
+    own[3:, 2] = 0.9
+    assert numbered_table_weight(own, reads) < 0.5

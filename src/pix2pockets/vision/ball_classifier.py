@@ -15,7 +15,7 @@ import numpy as np
 from pix2pockets.vision.ball_crops import crops_of_boxes
 from pix2pockets.vision.classes import BALL_IDS, ONE_PER_TABLE
 from pix2pockets.vision.detections import Detections
-from pix2pockets.vision.number_posterior import table_class_scores
+from pix2pockets.vision.number_posterior import numbered_table_weight, table_class_scores
 from pix2pockets.vision.onnx_session import open_crop_model
 from pix2pockets.vision.postprocess import at_most_one_posterior
 
@@ -109,7 +109,9 @@ def classified_balls(
     With the ball-number reader's chances for the same balls, the scores of every class are weighed across the
     image instead, each of the 16 numbers being on the table once
     (:func:`pix2pockets.vision.number_posterior.table_class_scores`): a ball read as much like the 12 as like the 4
-    is the 4 when another ball is clearly the 12.
+    is the 4 when another ball is clearly the 12. On a table whose balls do not read as a numbered set (pub reds
+    and yellows) the two weighings are blended or the first kept (:func:`~pix2pockets.vision.number_posterior.
+    numbered_table_weight`).
 
     Args:
         balls: class-agnostic ball detections (the "any ball" heatmap peaks), class ids ignored.
@@ -119,12 +121,12 @@ def classified_balls(
         number_probs: (n, 16) the ball-number reader's chances of numbers 0-15 for those balls, or None.
     """
     own = own_class_scores(balls.confidence, class_heat, probs)
-    if number_probs is not None:
-        score = table_class_scores(own, number_probs, IN_VIEW_ABSENT_ODDS)
-    else:
-        score = own.copy()
-        for kind in ONE_PER_TABLE:  # score columns are the ball class ids (BALL_IDS, 0-3)
-            score[:, kind] = at_most_one_posterior(own[:, kind], IN_VIEW_ABSENT_ODDS)
+    score = own.copy()
+    for kind in ONE_PER_TABLE:  # score columns are the ball class ids (BALL_IDS, 0-3)
+        score[:, kind] = at_most_one_posterior(own[:, kind], IN_VIEW_ABSENT_ODDS)
+    weight = 0.0 if number_probs is None else numbered_table_weight(own, number_probs)
+    if weight > 0:
+        score = weight * table_class_scores(own, number_probs, IN_VIEW_ABSENT_ODDS) + (1 - weight) * score
     keep = own >= conf_threshold
     rows, cls = np.nonzero(keep)
     return Detections(balls.boxes[rows], score[keep], np.asarray(BALL_IDS)[cls], balls.contact[rows], own[keep])

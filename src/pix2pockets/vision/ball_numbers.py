@@ -34,7 +34,18 @@ NUMBERS_OF_CLASS: tuple[tuple[int, ...], ...] = tuple(
 )
 """The numbers a ball of each detector class id may carry: cue 0, black 8, solid 1-7, stripe 9-15."""
 UNKNOWN = -1
-"""Number given to a ball whose class has no number left (more balls of a class than the set holds)."""
+"""Number given to a ball whose class has no number left (more balls of a class than the set holds), and to every
+ball of a table that does not read as a numbered set."""
+
+STRAIN_OF_A_NUMBERED_SET = 1.0
+"""Numbering strain [nats per ball] up to which a table reads as a standard numbered set (the validation renders:
+median 0.04-0.09, at most 1.4)."""
+
+STRAIN_OF_AN_UNNUMBERED_SET = 2.0
+"""Numbering strain [nats per ball] from which a table reads as a set without numbers (real frames of red and
+yellow pub balls: median 4.0, 2.1 at the tenth percentile)."""
+
+_UNNUMBERED_LOG_CHANCE = float(np.log(1e-3))
 
 
 def class_mask(class_ids: np.ndarray) -> np.ndarray:
@@ -43,6 +54,31 @@ def class_mask(class_ids: np.ndarray) -> np.ndarray:
     if len(class_ids) and (class_ids.min() < 0 or class_ids.max() >= len(NUMBERS_OF_CLASS)):
         raise ValueError(f"ball class ids must be 0-3, got {sorted(set(class_ids.tolist()))}")
     return CLASS_ID_OF_NUMBER[None, :] == class_ids[:, None]
+
+
+def numbering_strain(probs: np.ndarray) -> float:
+    """How far a table's balls must be read from their likeliest numbers for each to get a number of its own
+    [mean nats per ball].
+
+    Near 0 for a standard set, whose balls read as different numbers. Far above for a set that carries no numbers
+    (pub reds and yellows, snooker): its look-alike balls all read as the same few numbers, and giving each its own
+    costs much chance. Balls beyond the 16 numbers count as read at chance 1e-3.
+    """
+    log_chance = np.log(np.maximum(np.asarray(probs, dtype=float).reshape(-1, N_NUMBERS), 1e-6))
+    n = len(log_chance)
+    if n == 0:
+        return 0.0
+    if n > N_NUMBERS:
+        log_chance = np.hstack([log_chance, np.full((n, n - N_NUMBERS), _UNNUMBERED_LOG_CHANCE)])
+    rows, cols = linear_sum_assignment(-log_chance)
+    return float((log_chance.max(axis=1).sum() - log_chance[rows, cols].sum()) / n)
+
+
+def numbered_set_weight(strain: float) -> float:
+    """Trust in a table's numbers from its :func:`numbering_strain`: 1 up to :data:`STRAIN_OF_A_NUMBERED_SET`, 0
+    from :data:`STRAIN_OF_AN_UNNUMBERED_SET`, linear between."""
+    span = STRAIN_OF_AN_UNNUMBERED_SET - STRAIN_OF_A_NUMBERED_SET
+    return float(np.clip((STRAIN_OF_AN_UNNUMBERED_SET - strain) / span, 0.0, 1.0))
 
 
 def assign_numbers(probs: np.ndarray, class_ids: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -54,7 +90,8 @@ def assign_numbers(probs: np.ndarray, class_ids: np.ndarray) -> tuple[np.ndarray
 
     Returns:
         numbers (n,) int, :data:`UNKNOWN` where the class has more balls than numbers; and each ball's chance of
-        its number among its class's numbers (n,), 0 where unknown.
+        its number among its class's numbers (n,), 0 where unknown. The chances are scaled by
+        :func:`numbered_set_weight`: a table that does not read as a numbered set gets no numbers at all.
     """
     probs = np.asarray(probs, dtype=float).reshape(-1, N_NUMBERS)
     mask = class_mask(class_ids)
@@ -68,10 +105,13 @@ def assign_numbers(probs: np.ndarray, class_ids: np.ndarray) -> tuple[np.ndarray
         return numbers, chance
     forbidden = 1e6  # far above any sum of log chances
     cost = np.where(mask, -np.log(np.maximum(within, 1e-9)), forbidden)
+    weight = numbered_set_weight(numbering_strain(probs))
+    if weight == 0:
+        return numbers, chance
     rows, cols = linear_sum_assignment(cost)
     ok = mask[rows, cols]
     numbers[rows[ok]] = cols[ok]
-    chance[rows[ok]] = within[rows[ok], cols[ok]]
+    chance[rows[ok]] = weight * within[rows[ok], cols[ok]]
     return numbers, chance
 
 

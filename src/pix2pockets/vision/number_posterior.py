@@ -6,15 +6,26 @@ cannot carry that: seven solids look alike as a class. :func:`table_class_scores
 scores over the numbers of its class by the ball-number reader's chances, finds the chance of every pairing
 of ball and number under "at most one number per ball, at most one ball per number", and sums them back per
 class. Loopy belief propagation gives those chances; with one number in play it is exact, and then equal to
-:func:`~pix2pockets.vision.postprocess.at_most_one_posterior`.
+:func:`~pix2pockets.vision.postprocess.at_most_one_posterior`. A table whose balls do not read as a numbered set
+(pub reds and yellows, snooker) is not weighed this way (:func:`numbered_table_weight`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from pix2pockets.vision.ball_numbers import CLASS_ID_OF_NUMBER, N_NUMBERS, NUMBERS_OF_CLASS
+from pix2pockets.vision.ball_numbers import (
+    CLASS_ID_OF_NUMBER,
+    N_NUMBERS,
+    NUMBERS_OF_CLASS,
+    numbered_set_weight,
+    numbering_strain,
+)
 from pix2pockets.vision.classes import BALL_IDS
+
+SET_EVIDENCE_SCORE = 0.3
+"""Candidates whose class scores sum to at least this show whether the table's set is numbered
+(:func:`numbered_table_weight`)."""
 
 BP_ITERATIONS = 30
 """Belief-propagation rounds; a table's numbers settle in about ten."""
@@ -84,3 +95,12 @@ def table_class_scores(own: np.ndarray, number_probs: np.ndarray, absent_odds: f
     no_ball = np.clip(1.0 - own.sum(axis=1, keepdims=True), _CHANCE_LIMIT, 1.0)
     marginals = matching_marginals(own[:, CLASS_ID_OF_NUMBER] * within_class / no_ball, absent_odds)
     return np.stack([marginals[:, numbers].sum(axis=1) for numbers in of_class], axis=1)
+
+
+def numbered_table_weight(own: np.ndarray, number_probs: np.ndarray) -> float:
+    """How far to trust "each number once" on this table, 0-1: :func:`~pix2pockets.vision.ball_numbers.
+    numbered_set_weight` of the numbering strain of the candidates that are likely balls (class scores summing to
+    at least :data:`SET_EVIDENCE_SCORE`). Pub reds and yellows and snooker balls carry no numbers; weighing them
+    as if each number were there once would split the look-alikes' scores."""
+    sure = np.asarray(own, dtype=float).sum(axis=1) >= SET_EVIDENCE_SCORE
+    return numbered_set_weight(numbering_strain(np.asarray(number_probs)[sure]))
