@@ -38,12 +38,13 @@ UNKNOWN = -1
 ball of a table that does not read as a numbered set."""
 
 STRAIN_OF_A_NUMBERED_SET = 1.0
-"""Numbering strain [nats per ball] up to which a table reads as a standard numbered set (the validation renders:
-median 0.04-0.09, at most 1.4)."""
+"""Numbering strain [nats per ball] up to which a table reads as a standard numbered set (the detector's likely
+balls on the validation renders: median 0.04-0.09, at most 1.4; the pipeline's balls within their classes: median
+0, 90 % under 0.4)."""
 
 STRAIN_OF_AN_UNNUMBERED_SET = 2.0
 """Numbering strain [nats per ball] from which a table reads as a set without numbers (real frames of red and
-yellow pub balls: median 4.0, 2.1 at the tenth percentile)."""
+yellow pub balls: median 4.0, 2.1 at the tenth percentile; within their classes 3.1 and 1.8)."""
 
 _UNNUMBERED_LOG_CHANCE = float(np.log(1e-3))
 
@@ -91,7 +92,9 @@ def assign_numbers(probs: np.ndarray, class_ids: np.ndarray) -> tuple[np.ndarray
     Returns:
         numbers (n,) int, :data:`UNKNOWN` where the class has more balls than numbers; and each ball's chance of
         its number among its class's numbers (n,), 0 where unknown. The chances are scaled by
-        :func:`numbered_set_weight`: a table that does not read as a numbered set gets no numbers at all.
+        :func:`numbered_set_weight` of the strain of the within-class chances: a table that does not read as a
+        numbered set gets no numbers at all (pub reds and yellows: all classed solid, say, they cannot all be told
+        apart as the 1-7).
     """
     probs = np.asarray(probs, dtype=float).reshape(-1, N_NUMBERS)
     mask = class_mask(class_ids)
@@ -105,7 +108,7 @@ def assign_numbers(probs: np.ndarray, class_ids: np.ndarray) -> tuple[np.ndarray
         return numbers, chance
     forbidden = 1e6  # far above any sum of log chances
     cost = np.where(mask, -np.log(np.maximum(within, 1e-9)), forbidden)
-    weight = numbered_set_weight(numbering_strain(probs))
+    weight = numbered_set_weight(numbering_strain(within))  # the strain of the numbering asked for: within class
     if weight == 0:
         return numbers, chance
     rows, cols = linear_sum_assignment(cost)
