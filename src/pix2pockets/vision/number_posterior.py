@@ -37,13 +37,17 @@ _CHANCE_LIMIT = 1e-6
 
 
 def matching_marginals(
-    odds: np.ndarray, absent_odds: float, iterations: int = BP_ITERATIONS, damping: float = BP_DAMPING
+    odds: np.ndarray,
+    absent_odds: float | np.ndarray,
+    iterations: int = BP_ITERATIONS,
+    damping: float = BP_DAMPING,
 ) -> np.ndarray:
     """Chance that ball i is number j when each ball is at most one number and each number at most one ball.
 
     Args:
         odds: (n, m) >= 0, ball i's own odds of being number j against being no numbered ball at all.
-        absent_odds: weight of "number j is not in view" against one ball at even odds (> 0).
+        absent_odds: weight of "number j is not in view" against one ball at even odds (> 0), one for all numbers
+            or (m,) one per number.
         iterations: belief-propagation rounds.
         damping: share of the previous round kept in each message, in [0, 1).
 
@@ -54,7 +58,8 @@ def matching_marginals(
     odds = np.asarray(odds, dtype=float)
     if odds.ndim != 2 or (odds < 0).any() or not np.isfinite(odds).all():
         raise ValueError(f"odds must be a finite (n, m) array >= 0, got shape {odds.shape}")
-    if not absent_odds > 0 or not 0 <= damping < 1:
+    absent_odds = np.broadcast_to(np.asarray(absent_odds, dtype=float), odds.shape[1:])
+    if not (absent_odds > 0).all() or not 0 <= damping < 1:
         raise ValueError(f"need absent_odds > 0 and damping in [0, 1), got {absent_odds}, {damping}")
     from_row = np.ones_like(odds)  # each ball's "at most one number" message to its pairings, as odds factors
     from_column = np.ones_like(odds)  # each number's "at most one ball" message
@@ -69,7 +74,7 @@ def matching_marginals(
     return belief / (1.0 + belief)
 
 
-def table_class_scores(own: np.ndarray, number_probs: np.ndarray, absent_odds: float) -> np.ndarray:
+def table_class_scores(own: np.ndarray, number_probs: np.ndarray, absent_odds: float | np.ndarray) -> np.ndarray:
     """One table's ball class scores with every number used at most once.
 
     Args:
