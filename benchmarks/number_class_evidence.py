@@ -3,7 +3,9 @@
 The ball classifier's four ball chances (cue, black, solid, stripe) are multiplied by the reader's chances summed
 over each class's numbers, raised to ``--power`` (0 leaves them as shipped), and rescaled to the classifier's
 total ball chance; then ``pix2pockets evaluate detector`` runs as usual. Eighteenth session:
-``docs/benchmarks-detector.md``.
+``docs/benchmarks-detector.md``. Since the nineteenth session the detector also weighs the classes across the
+table by number (``vision/number_posterior.py``); add ``-- --numbers none`` to repeat the eighteenth session's
+runs.
 
 Usage:
     PYTHONPATH=src python benchmarks/number_class_evidence.py --power 1 --data DATASET --json OUT.json

@@ -157,9 +157,10 @@ def suggest(
     timings["locate"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    reader = number_reader or None
     if number_reader is True:  # the detector's own reader when it has that stage, else the bundled one
         reader = detector.number_reader if hasattr(detector, "number_reader") else default_number_reader()
+    else:
+        reader = number_reader or None
     kept = located.detections
     if reader is not None and len(kept):
         numbers, chances = reader.numbers(rgb, kept.boxes, kept.class_id)

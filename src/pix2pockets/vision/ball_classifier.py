@@ -110,8 +110,8 @@ def classified_balls(
     image instead, each of the 16 numbers being on the table once
     (:func:`pix2pockets.vision.number_posterior.table_class_scores`): a ball read as much like the 12 as like the 4
     is the 4 when another ball is clearly the 12. On a table whose balls do not read as a numbered set (pub reds
-    and yellows) the two weighings are blended or the first kept (:func:`~pix2pockets.vision.number_posterior.
-    numbered_table_weight`).
+    and yellows) the two weighings are blended, or the first is kept
+    (:func:`pix2pockets.vision.number_posterior.numbered_table_weight`).
 
     Args:
         balls: class-agnostic ball detections (the "any ball" heatmap peaks), class ids ignored.

@@ -106,11 +106,11 @@ def assign_numbers(probs: np.ndarray, class_ids: np.ndarray) -> tuple[np.ndarray
     chance = np.zeros(len(probs))
     if len(probs) == 0:
         return numbers, chance
-    forbidden = 1e6  # far above any sum of log chances
-    cost = np.where(mask, -np.log(np.maximum(within, 1e-9)), forbidden)
     weight = numbered_set_weight(numbering_strain(within))  # the strain of the numbering asked for: within class
     if weight == 0:
         return numbers, chance
+    forbidden = 1e6  # far above any sum of log chances
+    cost = np.where(mask, -np.log(np.maximum(within, 1e-9)), forbidden)
     rows, cols = linear_sum_assignment(cost)
     ok = mask[rows, cols]
     numbers[rows[ok]] = cols[ok]

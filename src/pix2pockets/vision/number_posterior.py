@@ -103,9 +103,11 @@ def table_class_scores(own: np.ndarray, number_probs: np.ndarray, absent_odds: f
 
 
 def numbered_table_weight(own: np.ndarray, number_probs: np.ndarray) -> float:
-    """How far to trust "each number once" on this table, 0-1: :func:`~pix2pockets.vision.ball_numbers.
-    numbered_set_weight` of the numbering strain of the candidates that are likely balls (class scores summing to
-    at least :data:`SET_EVIDENCE_SCORE`). Pub reds and yellows and snooker balls carry no numbers; weighing them
-    as if each number were there once would split the look-alikes' scores."""
+    """How far to trust "each number once" on this table, 0-1.
+
+    :func:`pix2pockets.vision.ball_numbers.numbered_set_weight` of the numbering strain of the candidates that are
+    likely balls (class scores summing to at least :data:`SET_EVIDENCE_SCORE`). Pub reds and yellows and snooker
+    balls carry no numbers; weighing them as if each number were there once would split the look-alikes' scores.
+    """
     sure = np.asarray(own, dtype=float).sum(axis=1) >= SET_EVIDENCE_SCORE
     return numbered_set_weight(numbering_strain(np.asarray(number_probs)[sure]))
