@@ -99,3 +99,39 @@ def test_candidates_of_one_ball_merge_and_touching_balls_stay_apart():
 def test_decode_rejects_wrong_shape():
     with pytest.raises(ValueError, match="model output"):
         decode_peaks(np.zeros((5, 4, 4)), Letterbox(1.0, (16, 16)))
+
+
+def _merged_by_brute_force(out, conf_threshold):
+    """Each candidate cell against each of its 8 neighbours, one pair at a time."""
+    from pix2pockets.vision.heatmap_layout import BALL_NMS_IOU
+    from pix2pockets.vision.postprocess import paired_box_iou
+
+    def box(y, x):
+        size = np.exp(np.clip(out[SIZE_SLICE, y, x], -4.0, 6.0))
+        centre = np.array([x, y]) + out[OFFSET_SLICE, y, x]
+        return np.concatenate([centre - size / 2, centre + size / 2])
+
+    heat = np.where(out[BALL_ANY] >= conf_threshold, out[BALL_ANY], 0.0)
+    h, w = heat.shape
+    merged = np.zeros((h, w), bool)
+    for y, x in zip(*np.nonzero(heat > 0), strict=True):
+        for dy in (-1, 0, 1):
+            for dx in (-1, 0, 1):
+                ny, nx = y + dy, x + dx
+                if (dy or dx) and 0 <= ny < h and 0 <= nx < w and heat[ny, nx] > heat[y, x]:
+                    merged[y, x] |= paired_box_iou(box(y, x), box(ny, nx)) >= BALL_NMS_IOU
+    return merged
+
+
+def test_merged_cells_match_a_cell_by_cell_reading():
+    from pix2pockets.vision.heatmap_decode import merged_ball_cells
+
+    rng = np.random.default_rng(7)
+    out = np.zeros((N_OUT, 24, 30), np.float32)
+    out[BALL_ANY] = np.where(rng.random((24, 30)) < 0.3, rng.random((24, 30)), 0.0)  # clusters of candidates
+    out[OFFSET_SLICE] = rng.uniform(-0.6, 0.6, (2, 24, 30))
+    out[SIZE_SLICE] = np.log(rng.uniform(0.8, 3.0, (2, 24, 30)))
+    merged = merged_ball_cells(out, 0.05)
+    np.testing.assert_array_equal(merged, _merged_by_brute_force(out, 0.05))
+    assert 0 < merged.sum() < (out[BALL_ANY] >= 0.05).sum()
+    assert not merged_ball_cells(np.zeros((N_OUT, 4, 4), np.float32)).any()
