@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import ClassVar
 
 import numpy as np
 from torch import nn
@@ -21,7 +22,7 @@ from pix2pockets.vision.ball_refiner import (
 )
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.train.ball_box_data import BallBoxCropConfig, collect_ball_box_crops
-from pix2pockets.vision.train.crop_fit import check_training_settings
+from pix2pockets.vision.train.crop_fit import CropTrainSettings
 from pix2pockets.vision.train.refiner_trainer import (
     RefinerSpec,
     export_refiner,
@@ -34,38 +35,23 @@ SPEC = RefinerSpec(
 
 
 @dataclass(frozen=True, slots=True)
-class BallRefinerTrainConfig:
+class BallRefinerTrainConfig(CropTrainSettings):
     """Settings of ``pix2pockets train-ball-refiner``.
 
-    Attributes:
-        data: YOLO datasets with ball labels (classes cue, black, solid, stripe).
-        out: output folder (``ball-refiner.onnx``, ``metrics.json``).
-        epochs: passes over the crops.
-        seed: seed for crops, order, augmentation and initialisation.
-        batch: crops per step.
-        lr: peak learning rate (AdamW, cosine decay).
-        threads: torch CPU threads.
-        widths: channels of the network's three stages.
+    Attributes (besides the shared :class:`~pix2pockets.vision.train.crop_fit.CropTrainSettings`):
         copies: jittered crops per labelled ball and image.
         centre_jitter: standard deviation of the crop centre shift per axis, in ball diameters.
         stretch: share of the crops cut with a window of another aspect, the ball squashed in them
             (:class:`~pix2pockets.vision.train.ball_box_data.BallBoxCropConfig`).
     """
 
-    data: tuple[str, ...]
-    out: str
-    epochs: int = 6
-    seed: int = 0
-    batch: int = 256
-    lr: float = 3e-3
-    threads: int = 1
-    widths: tuple[int, int, int] = (16, 32, 64)
+    command: ClassVar[str] = SPEC.command
+
     copies: int = 3
     centre_jitter: float = BallBoxCropConfig().centre_jitter
     stretch: float = BallBoxCropConfig().stretch
 
-    def __post_init__(self) -> None:
-        check_training_settings(self, SPEC.command)
+    def check(self) -> None:
         if not 0 <= self.centre_jitter <= 0.3:
             raise ValueError(f"centre_jitter must be in [0, 0.3] ball diameters, got {self.centre_jitter}")
         if not 0 <= self.stretch <= 1:

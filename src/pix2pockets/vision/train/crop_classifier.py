@@ -12,6 +12,7 @@ from __future__ import annotations
 import json
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import ClassVar
 
 import numpy as np
 import torch
@@ -21,7 +22,7 @@ from pix2pockets.vision.ball_classifier import OUTPUT_NAME
 from pix2pockets.vision.ball_crops import CROP_SIZE
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.train.crop_data import CROP_LABELS, CropConfig, collect_crops
-from pix2pockets.vision.train.crop_fit import check_training_settings, fit_crops, labelled_sources, predict_crops
+from pix2pockets.vision.train.crop_fit import CropTrainSettings, fit_crops, labelled_sources, predict_crops
 from pix2pockets.vision.train.onnx_export import write_onnx
 from pix2pockets.vision.yolo_data import load_splits
 
@@ -84,21 +85,13 @@ class _Exported(nn.Module):
 
 
 @dataclass(frozen=True, slots=True)
-class CropTrainConfig:
+class CropTrainConfig(CropTrainSettings):
     """Settings of ``pix2pockets train-ball-classifier``.
 
-    Attributes:
-        data: YOLO datasets with the five classes (positive and "no ball" crops).
-        out: output folder (``ball-classifier.onnx``, ``metrics.json``).
+    Attributes (besides the shared :class:`~pix2pockets.vision.train.crop_fit.CropTrainSettings`):
         negatives: ball-only datasets (e.g. real photos): "no ball" crops only, away from their balls.
         negatives_exclude: file-name globs left out of `negatives`.
-        epochs: passes over the crops.
-        seed: seed for crops, order, augmentation and initialisation.
-        batch: crops per step.
-        lr: peak learning rate (AdamW, cosine decay).
-        threads: torch CPU threads.
         class_power: loss weight of a class is frequency ** -class_power (0: unweighted).
-        widths: channels of the network's three stages.
         head: ``"grid"`` or ``"mean"`` (see the module docstring).
         copies: jittered crops per labelled ball and image.
         centre_jitter: largest crop centre shift, in ball diameters.
@@ -107,26 +100,18 @@ class CropTrainConfig:
         crop_size: side of a crop [px], a multiple of 8 (inference reads it from the ONNX input).
     """
 
-    data: tuple[str, ...]
-    out: str
+    command: ClassVar[str] = "train-ball-classifier"
+
     negatives: tuple[str, ...] = ()
     negatives_exclude: tuple[str, ...] = ()
-    epochs: int = 6
-    seed: int = 0
-    batch: int = 256
-    lr: float = 3e-3
-    threads: int = 1
     class_power: float = 0.5
-    widths: tuple[int, int, int] = (16, 32, 64)
     head: str = "grid"
-    copies: int = 1
     centre_jitter: float = CropConfig().centre_jitter
     scale_jitter: tuple[float, float] = CropConfig().scale_jitter
     low_res: float = CropConfig().low_res
     crop_size: int = CROP_SIZE
 
-    def __post_init__(self) -> None:
-        check_training_settings(self, "train-ball-classifier")
+    def check(self) -> None:
         if not 0 <= self.class_power <= 1:
             raise ValueError(f"class_power must be in [0, 1], got {self.class_power}")
         if self.head not in HEADS:

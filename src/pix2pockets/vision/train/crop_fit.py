@@ -1,11 +1,13 @@
 """What the crop networks' training shares (ball classifier, ball-number reader, diamond and ball refiners): the
-settings checks, AdamW with a cosine learning rate, shuffled batches, a progress bar; the labelled datasets they
-read; the refiners' flips and turns and their exported form."""
+settings and their checks, AdamW with a cosine learning rate, shuffled batches, a progress bar; the labelled
+datasets they read; the refiners' flips and turns and their exported form."""
 
 from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 import torch
@@ -17,15 +19,47 @@ BatchLoss = Callable[[nn.Module, torch.Tensor, torch.Tensor, torch.Generator], t
 """(model, crops (B, 3, S, S) float 0-255, targets (B, ...), generator) -> loss; augments the batch itself."""
 
 
-def check_training_settings(cfg, command: str) -> None:
-    """The checks every crop network's training config shares (``data``, ``epochs``, ``batch``, ``threads``,
-    ``copies``, ``lr``, ``widths``); `command` names the training command in the message. Raises ValueError."""
-    if not cfg.data:
-        raise ValueError(f"{command} needs at least one --data folder")
-    if min(cfg.epochs, cfg.batch, cfg.threads, cfg.copies) < 1 or not cfg.lr > 0:
-        raise ValueError("epochs, batch, threads and copies must be >= 1 and lr > 0")
-    if len(cfg.widths) != 3 or min(cfg.widths) < 1:
-        raise ValueError(f"widths must be three positive channel counts, got {cfg.widths}")
+@dataclass(frozen=True, slots=True)
+class CropTrainSettings:
+    """Settings every crop network's training shares; each trainer's config adds its own and checks them in
+    :meth:`check`.
+
+    Attributes:
+        data: datasets to read (repeatable ``--data``).
+        out: output folder.
+        epochs: passes over the crops.
+        seed: seed for crops, order, augmentation and initialisation.
+        batch: crops per step.
+        lr: peak learning rate (AdamW, cosine decay).
+        threads: torch CPU threads.
+        widths: channels of the network's three stages.
+        copies: jittered crops per labelled object and image.
+    """
+
+    command: ClassVar[str] = "train"
+    """The training command, named in error messages."""
+
+    data: tuple[str, ...]
+    out: str
+    epochs: int = 6
+    seed: int = 0
+    batch: int = 256
+    lr: float = 3e-3
+    threads: int = 1
+    widths: tuple[int, int, int] = (16, 32, 64)
+    copies: int = 1
+
+    def __post_init__(self) -> None:
+        if not self.data:
+            raise ValueError(f"{self.command} needs at least one --data folder")
+        if min(self.epochs, self.batch, self.threads, self.copies) < 1 or not self.lr > 0:
+            raise ValueError("epochs, batch, threads and copies must be >= 1 and lr > 0")
+        if len(self.widths) != 3 or min(self.widths) < 1:
+            raise ValueError(f"widths must be three positive channel counts, got {self.widths}")
+        self.check()
+
+    def check(self) -> None:
+        """The checks of a trainer's own settings (ValueError); none here."""
 
 
 def labelled_sources(roots: Sequence[str], split: str) -> list[tuple[LabelledImage, dict[int, int]]]:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
+from typing import ClassVar
 
 import numpy as np
 from torch import nn
@@ -20,7 +21,7 @@ from pix2pockets.vision.dot_refiner import (
     OUTPUT_NAME,
 )
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.train.crop_fit import check_training_settings
+from pix2pockets.vision.train.crop_fit import CropTrainSettings
 from pix2pockets.vision.train.dot_data import DotCropConfig, collect_dot_crops
 from pix2pockets.vision.train.refiner_trainer import (
     RefinerSpec,
@@ -34,35 +35,21 @@ SPEC = RefinerSpec(
 
 
 @dataclass(frozen=True, slots=True)
-class DotTrainConfig:
+class DotTrainConfig(CropTrainSettings):
     """Settings of ``pix2pockets train-dot-refiner``.
 
-    Attributes:
-        data: YOLO datasets with diamond labels (the ``dot`` class).
-        out: output folder (``dot-refiner.onnx``, ``metrics.json``).
-        epochs: passes over the crops.
-        seed: seed for crops, order, augmentation and initialisation.
-        batch: crops per step.
-        lr: peak learning rate (AdamW, cosine decay).
-        threads: torch CPU threads.
-        widths: channels of the network's three stages.
+    Attributes (besides the shared :class:`~pix2pockets.vision.train.crop_fit.CropTrainSettings`):
         copies: shifted crops per labelled diamond and image.
         centre_jitter: largest crop centre shift per axis, in diamond box sides.
     """
 
-    data: tuple[str, ...]
-    out: str
+    command: ClassVar[str] = SPEC.command
+
     epochs: int = 10
-    seed: int = 0
-    batch: int = 256
-    lr: float = 3e-3
-    threads: int = 1
-    widths: tuple[int, int, int] = (16, 32, 64)
     copies: int = 3
     centre_jitter: float = DotCropConfig().centre_jitter
 
-    def __post_init__(self) -> None:
-        check_training_settings(self, SPEC.command)
+    def check(self) -> None:
         if not 0 <= self.centre_jitter <= 2:
             raise ValueError(f"centre_jitter must be in [0, 2] diamond sides, got {self.centre_jitter}")
 

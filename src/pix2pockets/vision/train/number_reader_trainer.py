@@ -11,6 +11,7 @@ from __future__ import annotations
 import json
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import ClassVar
 
 import numpy as np
 import torch
@@ -21,44 +22,28 @@ from pix2pockets.vision.ball_numbers import CLASS_ID_OF_NUMBER, N_NUMBERS, class
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.train.crop_classifier import CropNet, augment, export_crop_classifier
 from pix2pockets.vision.train.crop_data import CropConfig
-from pix2pockets.vision.train.crop_fit import check_training_settings, fit_crops, labelled_sources, predict_crops
+from pix2pockets.vision.train.crop_fit import CropTrainSettings, fit_crops, labelled_sources, predict_crops
 from pix2pockets.vision.train.number_data import collect_number_crops
 
 ONNX_NAME = "ball-numbers.onnx"
 
 
 @dataclass(frozen=True, slots=True)
-class NumberTrainConfig:
+class NumberTrainConfig(CropTrainSettings):
     """Settings of ``pix2pockets train-ball-numbers``.
 
-    Attributes:
-        data: ``pix2pockets synth`` datasets (their ``meta/`` sidecars hold the ball numbers).
-        out: output folder (``ball-numbers.onnx``, ``metrics.json``, ``last.pt``).
-        epochs: passes over the crops.
-        seed: seed for crops, order, augmentation and initialisation.
-        batch: crops per step.
-        lr: peak learning rate (AdamW, cosine decay).
-        threads: torch CPU threads.
-        widths: channels of the network's three stages.
+    Attributes (besides the shared :class:`~pix2pockets.vision.train.crop_fit.CropTrainSettings`):
         copies: jittered crops per labelled ball and image.
         centre_jitter: largest crop centre shift, in ball diameters.
         min_visible: balls showing less of their outline are left out of training.
     """
 
-    data: tuple[str, ...]
-    out: str
-    epochs: int = 6
-    seed: int = 0
-    batch: int = 256
-    lr: float = 3e-3
-    threads: int = 1
-    widths: tuple[int, int, int] = (16, 32, 64)
-    copies: int = 1
+    command: ClassVar[str] = "train-ball-numbers"
+
     centre_jitter: float = CropConfig().centre_jitter
     min_visible: float = 0.3
 
-    def __post_init__(self) -> None:
-        check_training_settings(self, "train-ball-numbers")
+    def check(self) -> None:
         if not 0 <= self.centre_jitter < 0.5 or not 0 <= self.min_visible <= 1:
             raise ValueError(
                 f"centre_jitter must be in [0, 0.5) and min_visible in [0, 1], got "
