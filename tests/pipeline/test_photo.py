@@ -119,6 +119,19 @@ def test_clean_detections_keeps_a_ball_that_lost_the_cue():
     assert sorted(out.class_id.tolist()) == [0, 3]  # the stripe scores 0.18 as a stripe but 0.45 as a ball
 
 
+def test_clean_detections_keeps_a_sure_ball_whose_class_scores_disagree():
+    from pix2pockets.pipeline.photo import SURE_BALL_SCORE, clean_detections
+    from pix2pockets.vision.detections import Detections
+
+    boxes = np.array([[0, 0, 10, 10], [0, 0, 10, 10], [100, 0, 110, 10], [200, 0, 210, 10.0]])
+    faint = [0.1, 0.08, 0.1, 0.1]  # e.g. an 8 the classifier is sure of and the black head is not
+    ball = [SURE_BALL_SCORE, SURE_BALL_SCORE, SURE_BALL_SCORE - 0.01, np.nan]
+    raw = Detections(boxes, faint, [1, 2, 2, 2], ball_score=ball)
+    out = clean_detections(raw)
+    assert out.boxes[:, 0].tolist() == [0]  # the doubtful ball and the one without a ball score are dropped
+    assert out.class_id.tolist() == [1]
+
+
 def test_ball_numbers_are_read_named_in_the_text_and_drawn():
     cam = camera("45")
     layout = example_layout()

@@ -28,6 +28,7 @@ def test_one_entry_per_ball_and_class_scored_by_both_stages():
     odds = own / (1 - own)  # a lone cue ball: the cue ball is usually in view, so a little above its own score
     assert det.confidence[det.class_id == 0][0] == pytest.approx(odds / (IN_VIEW_ABSENT_ODDS + odds))
     assert np.all(det.contact == [[20.0, 30.0], [20.0, 30.0]])
+    assert det.ball_score.tolist() == [0.9, 0.9]  # each entry keeps its ball's "any ball" score
     assert postprocess(det).class_id.tolist() == [0]
 
 

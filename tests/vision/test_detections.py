@@ -38,6 +38,17 @@ def test_own_score_defaults_to_confidence_and_follows_selection():
     assert weighed.to_list()[0]["own_score"] == 0.9 and "own_score" not in weighed.to_list()[1]
 
 
+def test_ball_score_is_unknown_unless_given_and_follows_selection():
+    det = make()
+    assert np.isnan(det.ball_score).all() and "ball_score" not in det.to_list()[0]
+    scored = Detections(det.boxes, det.confidence, det.class_id, ball_score=[0.8, 0.6, np.nan])
+    assert scored[scored.is_ball].ball_score.tolist() == [0.8, 0.6]
+    both = Detections.concatenate([det, scored])
+    np.testing.assert_array_equal(both.ball_score, [np.nan, np.nan, np.nan, 0.8, 0.6, np.nan])
+    items = scored.to_list()
+    assert items[0]["ball_score"] == 0.8 and "ball_score" not in items[2]
+
+
 def test_class_order():
     assert CLASS_NAMES == ("cue", "black", "solid", "stripe", "dot")
 
@@ -47,5 +58,7 @@ def test_bad_lengths():
         Detections(np.zeros((2, 4)), np.zeros(1), np.zeros(2))
     with pytest.raises(ValueError, match="own_score 1"):
         Detections(np.zeros((2, 4)), np.zeros(2), np.zeros(2), own_score=np.zeros(1))
+    with pytest.raises(ValueError, match="ball_score 3"):
+        Detections(np.zeros((2, 4)), np.zeros(2), np.zeros(2), ball_score=np.zeros(3))
     with pytest.raises(ValueError, match="class ids"):
         Detections(np.zeros((1, 4)), np.zeros(1), np.array([7]))

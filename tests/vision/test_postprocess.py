@@ -180,3 +180,11 @@ def test_solid_or_stripe_follows_the_table_wide_scores():
     assert plain.class_id[np.argmin(plain.boxes[:, 0])] == 3
     assert out.class_id[first] == 2
     assert out.confidence[first] == pytest.approx(0.7)
+
+
+def test_a_resolved_ball_keeps_the_best_ball_score_of_its_group():
+    boxes = np.array([_ball(0), _ball(0.5), _ball(100), _ball(200)])
+    det = Detections(boxes, [0.6, 0.3, 0.5, 0.4], [2, 3, 2, 3], ball_score=[0.5, 0.7, 0.4, np.nan])
+    out = resolve_ball_classes(det)
+    by_x = out.ball_score[np.argsort(out.boxes[:, 0])]
+    np.testing.assert_array_equal(by_x, [0.7, 0.4, np.nan])

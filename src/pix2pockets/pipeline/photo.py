@@ -33,6 +33,11 @@ MIN_IMAGE_SIDE = 64  # [px]
 # Minimum confidence per class id (cue, black, solid, stripe, dot). Cue and black are capped at one
 # detection each by post-processing, so a lower bar costs at most one false ball and keeps a faint cue.
 MIN_CONFIDENCE = np.array([0.15, 0.15, 0.3, 0.3, 0.25])
+SURE_BALL_SCORE = 0.45
+"""A ball whose "any ball" score (``Detections.ball_score``) reaches this is kept whatever its class scores: on real
+photos the detector's class heads and the ball classifier often disagree about a ball (a real 8 the classifier is
+sure of, the black head not), and their joint class score then falls under :data:`MIN_CONFIDENCE` although the ball
+is plainly there (``docs/benchmarks-detector.md``, twentieth session)."""
 
 
 @functools.lru_cache(maxsize=1)
@@ -82,7 +87,8 @@ def clean_detections(raw: Detections) -> Detections:
     """Post-process raw detections (class-aware grouping, NMS, caps), then per-class confidence thresholds.
 
     A ball is kept by its best raw score of any class: a ball that lost the cue to a surer ball keeps a low
-    stripe score, but it is still a ball on the table (and an obstacle to plan around).
+    stripe score, but it is still a ball on the table (and an obstacle to plan around). A ball whose "any ball"
+    score reaches :data:`SURE_BALL_SCORE` is kept whatever its class scores.
     """
     det = resolve_ball_classes(raw)
     score = det.confidence
@@ -91,7 +97,8 @@ def clean_detections(raw: Detections) -> Detections:
         overlap = box_iou(det.boxes, balls.boxes) >= DEFAULT_NMS_IOU
         best_raw = np.where(overlap, balls.own_score[None, :], 0.0).max(axis=1)
         score = np.where(det.is_ball, np.maximum(score, best_raw), score)
-    return det[score >= MIN_CONFIDENCE[det.class_id]]
+    sure_ball = det.is_ball & (np.nan_to_num(det.ball_score, nan=0.0) >= SURE_BALL_SCORE)
+    return det[(score >= MIN_CONFIDENCE[det.class_id]) | sure_ball]
 
 
 def suggest(

@@ -104,7 +104,7 @@ def classified_balls(
     (:func:`pix2pockets.vision.postprocess.at_most_one_posterior`): a stripe that looks as much like the cue
     ball as the real one splits the chance with it, and a lone clear cue ball scores a little above its own
     score, the kind being usually in view (:data:`IN_VIEW_ABSENT_ODDS`). The scores before that are kept as
-    ``own_score``.
+    ``own_score``, and each entry's ball score (whatever its class) as ``ball_score``.
 
     With the ball-number reader's chances for the same balls, the scores of every class are weighed across the
     image instead, each of the 16 numbers being on the table once
@@ -129,4 +129,5 @@ def classified_balls(
         score = weight * table_class_scores(own, number_probs, IN_VIEW_ABSENT_ODDS) + (1 - weight) * score
     keep = own >= conf_threshold
     rows, cls = np.nonzero(keep)
-    return Detections(balls.boxes[rows], score[keep], np.asarray(BALL_IDS)[cls], balls.contact[rows], own[keep])
+    classes = np.asarray(BALL_IDS)[cls]
+    return Detections(balls.boxes[rows], score[keep], classes, balls.contact[rows], own[keep], balls.confidence[rows])

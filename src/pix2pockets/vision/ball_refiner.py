@@ -14,6 +14,7 @@ Example:
 
 from __future__ import annotations
 
+from dataclasses import replace
 from importlib import resources
 from pathlib import Path
 
@@ -124,7 +125,7 @@ class BallRefiner:
         h, w = image_rgb.shape[:2]
         boxes[todo] = np.clip(self.boxes(image_rgb, boxes[todo], aspect), 0, [w, h, w, h])
         shift = 0.5 * (boxes[:, :2] + boxes[:, 2:]) - balls.centres
-        return Detections(boxes, balls.confidence, balls.class_id, balls.contact + shift, balls.own_score)
+        return replace(balls, boxes=boxes, contact=balls.contact + shift)
 
 
 def _limit_size_change(refined: np.ndarray, boxes: np.ndarray) -> np.ndarray:

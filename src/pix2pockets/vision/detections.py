@@ -31,6 +31,8 @@ class Detections:
             report their scores as image-level chances,
             :func:`pix2pockets.vision.postprocess.at_most_one_posterior`).
             Equal to ``confidence`` unless given.
+        ball_score: (n,) the class-agnostic score that a ball is in the entry's box (a detector's "any ball"
+            evidence, whatever its class), NaN where unknown (diamonds, detectors without it).
     """
 
     boxes: np.ndarray
@@ -38,6 +40,7 @@ class Detections:
     class_id: np.ndarray
     contact: np.ndarray = field(default=None)  # type: ignore[assignment]
     own_score: np.ndarray = field(default=None)  # type: ignore[assignment]
+    ball_score: np.ndarray = field(default=None)  # type: ignore[assignment]
 
     def __post_init__(self) -> None:
         boxes = np.asarray(self.boxes, dtype=float).reshape(-1, 4)
@@ -48,10 +51,11 @@ class Detections:
             np.full((n, 2), np.nan) if self.contact is None else np.asarray(self.contact, dtype=float).reshape(-1, 2)
         )
         own = conf.copy() if self.own_score is None else np.asarray(self.own_score, dtype=float).reshape(-1)
-        if not (len(conf) == len(cls) == len(contact) == len(own) == n):
+        ball = np.full(n, np.nan) if self.ball_score is None else np.asarray(self.ball_score, dtype=float).reshape(-1)
+        if not (len(conf) == len(cls) == len(contact) == len(own) == len(ball) == n):
             raise ValueError(
                 f"Detections arrays differ in length: boxes {n}, confidence {len(conf)}, class_id {len(cls)}, "
-                f"contact {len(contact)}, own_score {len(own)}"
+                f"contact {len(contact)}, own_score {len(own)}, ball_score {len(ball)}"
             )
         if n and (cls.min() < 0 or cls.max() >= len(CLASS_NAMES)):
             raise ValueError(f"class ids must be in 0..{len(CLASS_NAMES) - 1}")
@@ -60,6 +64,7 @@ class Detections:
         object.__setattr__(self, "class_id", cls)
         object.__setattr__(self, "contact", contact)
         object.__setattr__(self, "own_score", own)
+        object.__setattr__(self, "ball_score", ball)
 
     @classmethod
     def empty(cls) -> Detections:
@@ -71,7 +76,12 @@ class Detections:
     def __getitem__(self, index: np.ndarray | slice | list[int]) -> Detections:
         """Select detections by boolean mask, index array or slice."""
         return Detections(
-            self.boxes[index], self.confidence[index], self.class_id[index], self.contact[index], self.own_score[index]
+            self.boxes[index],
+            self.confidence[index],
+            self.class_id[index],
+            self.contact[index],
+            self.own_score[index],
+            self.ball_score[index],
         )
 
     @property
@@ -92,11 +102,11 @@ class Detections:
         return self.class_id == DOT_ID
 
     def to_list(self) -> list[dict]:
-        """JSON-ready list of ``{class, confidence, bbox_px, contact_px, own_score}`` (the last two when known
-        and, for ``own_score``, when it differs from ``confidence``)."""
+        """JSON-ready list of ``{class, confidence, bbox_px, contact_px, own_score, ball_score}`` (the last three
+        when known and, for ``own_score``, when it differs from ``confidence``)."""
         out = []
-        for b, c, k, p, own in zip(
-            self.boxes, self.confidence, self.class_id, self.contact, self.own_score, strict=True
+        for b, c, k, p, own, ball in zip(
+            self.boxes, self.confidence, self.class_id, self.contact, self.own_score, self.ball_score, strict=True
         ):
             item = {
                 "class": CLASS_NAMES[k],
@@ -107,6 +117,8 @@ class Detections:
                 item["own_score"] = round(float(own), 4)
             if np.all(np.isfinite(p)):
                 item["contact_px"] = [round(float(v), 2) for v in p]
+            if np.isfinite(ball):
+                item["ball_score"] = round(float(ball), 4)
             out.append(item)
         return out
 
@@ -120,4 +132,5 @@ class Detections:
             np.concatenate([p.class_id for p in parts]),
             np.vstack([p.contact for p in parts]),
             np.concatenate([p.own_score for p in parts]),
+            np.concatenate([p.ball_score for p in parts]),
         )

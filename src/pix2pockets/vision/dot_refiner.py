@@ -13,6 +13,7 @@ Example:
 
 from __future__ import annotations
 
+from dataclasses import replace
 from importlib import resources
 from pathlib import Path
 
@@ -119,4 +120,4 @@ class DotRefiner:
         boxes = dots.boxes.copy()
         h, w = image_rgb.shape[:2]
         boxes[todo] = np.clip(self.boxes(image_rgb, boxes[todo]), 0, [w, h, w, h])
-        return Detections(boxes, dots.confidence, dots.class_id, dots.contact, dots.own_score)
+        return replace(dots, boxes=boxes)

@@ -7,7 +7,7 @@ Example:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
 
@@ -176,7 +176,7 @@ def _in_photo_aspect(image_rgb: np.ndarray, balls: Detections) -> tuple[Detectio
     (:mod:`pix2pockets.vision.pixel_aspect`; 1 and unchanged boxes for a photo as the camera took it)."""
     aspect = pixel_aspect_of_photo(image_rgb, balls.boxes, balls.confidence)
     boxes = boxes_in_aspect(balls.boxes, balls.confidence, aspect)
-    return Detections(boxes, balls.confidence, balls.class_id, balls.contact, balls.own_score), aspect
+    return replace(balls, boxes=boxes), aspect
 
 
 def default_classifier(threads: int = 1) -> BallClassifier | None:

@@ -143,13 +143,14 @@ def resolve_ball_classes(det: Detections, iou_threshold: float = DEFAULT_NMS_IOU
     resolved as one that does not. Solid or stripe, and that score, come from each entry's confidence, which
     such a detector may have weighed across the table by the balls' numbers
     (:mod:`pix2pockets.vision.number_posterior`; stripes and solids AP50 after +1 to +2 on the validation
-    renders); for other detectors the two scores are the same.
+    renders); for other detectors the two scores are the same. Each resolved ball keeps the best ``ball_score``
+    of its group (NaN when the detector gives none).
     """
     balls, dots = det[det.is_ball], det[det.is_dot]
     if not len(balls):
         return postprocess(det, iou_threshold)
     used = np.zeros(len(balls), dtype=bool)
-    leaders, scores, table_scores = [], [], []
+    leaders, scores, table_scores, ball_scores = [], [], [], []
     own = balls.own_score
     for i in np.argsort(-own, kind="stable"):
         if used[i]:
@@ -162,6 +163,8 @@ def resolve_ball_classes(det: Detections, iou_threshold: float = DEFAULT_NMS_IOU
         leaders.append(i)
         scores.append(per_class)
         table_scores.append(per_class_table)
+        known = balls.ball_score[members][np.isfinite(balls.ball_score[members])]
+        ball_scores.append(known.max() if len(known) else np.nan)
     S = np.array(scores)
     T = np.array(table_scores)
     best = np.maximum(S.max(axis=1), 1e-9)
@@ -180,5 +183,5 @@ def resolve_ball_classes(det: Detections, iou_threshold: float = DEFAULT_NMS_IOU
     conf = np.where(conf > 0, conf, S.max(axis=1))
     conf[assigned == 0] = at_most_one_posterior(S[:, 0])[assigned == 0]
     idx = np.asarray(leaders, dtype=int)
-    resolved = Detections(balls.boxes[idx], conf, assigned, balls.contact[idx])
+    resolved = Detections(balls.boxes[idx], conf, assigned, balls.contact[idx], ball_score=np.array(ball_scores))
     return postprocess(Detections.concatenate([resolved, dots]), iou_threshold)
