@@ -218,12 +218,11 @@ def test_train_ball_classifier_head_copies_and_jitter(toy, tmp_path, capsys):
     pytest.importorskip("onnx", reason="ONNX export needs the onnx package (train extra)")
     args = ["train-ball-classifier", "--data", str(toy), "--epochs", "1", "--quiet", "--widths", "8,8,8"]
     extra = ["--head", "mean", "--copies", "2", "--centre-jitter", "0.12", "--scale-jitter", "0.85,1.18"]
-    extra += ["--low-res", "0.1", "--class-power", "0.25", "--glare", "0.3"]
+    extra += ["--low-res", "0.1", "--class-power", "0.25"]
     assert main([*args, "--out", str(tmp_path / "a"), *extra]) == 0
     config = json.loads((tmp_path / "a" / "metrics.json").read_text())["config"]
     assert (config["head"], config["copies"], config["centre_jitter"]) == ("mean", 2, 0.12)
     assert (config["scale_jitter"], config["low_res"], config["class_power"]) == ([0.85, 1.18], 0.1, 0.25)
-    assert config["glare"] == 0.3
     assert main([*args, "--out", str(tmp_path / "b"), "--scale-jitter", "1.2"]) == 2
     assert "--scale-jitter" in capsys.readouterr().err and not (tmp_path / "b").exists()
     assert main([*args, "--out", str(tmp_path / "c"), "--low-res", "1.5"]) == 2

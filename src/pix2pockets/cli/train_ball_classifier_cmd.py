@@ -39,12 +39,6 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--low-res", type=float, default=0.4, help="share of crops re-sampled through 7-20 px (default 0.4)"
     )
     parser.add_argument(
-        "--glare",
-        type=float,
-        default=0.0,
-        help="share of crops given a bright highlight spot, as glossy real balls under lamps show (default 0)",
-    )
-    parser.add_argument(
         "--class-power",
         type=float,
         default=0.5,
@@ -65,7 +59,6 @@ def run(args: argparse.Namespace) -> int:
         head=args.head,
         scale_jitter=parse_number_pair(args.scale_jitter, "--scale-jitter", "0.92,1.09"),
         low_res=args.low_res,
-        glare=args.glare,
         class_power=args.class_power,
         crop_size=args.crop_size,
     )

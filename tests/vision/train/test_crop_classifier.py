@@ -10,7 +10,6 @@ from pix2pockets.vision.ball_crops import CROP_SIZE, crop_balls  # noqa: E402
 from pix2pockets.vision.train.crop_classifier import (  # noqa: E402
     CropNet,
     CropTrainConfig,
-    add_glare,
     export_crop_classifier,
 )
 
@@ -34,30 +33,6 @@ def test_unknown_head_bad_copies_and_bad_jitter_are_refused():
         CropTrainConfig(data=("d",), out="o", centre_jitter=-0.1)
     with pytest.raises(ValueError, match="crop_size"):
         CropTrainConfig(data=("d",), out="o", crop_size=44)
-    with pytest.raises(ValueError, match="glare"):
-        CropTrainConfig(data=("d",), out="o", glare=1.5)
-
-
-def test_glare_brightens_a_spot_near_the_middle_of_the_chosen_crops_only():
-    x = torch.full((64, 3, CROP_SIZE, CROP_SIZE), 90.0)
-    y = add_glare(x, torch.Generator().manual_seed(1), 0.5)
-    lifted = (y - x).amax(dim=(1, 2, 3)) > 0
-    assert 16 <= int(lifted.sum()) <= 48
-    assert torch.equal(y[~lifted], x[~lifted]) and torch.equal(x, torch.full_like(x, 90.0))
-    spot = (y - x)[lifted].sum(dim=1)  # (k, S, S)
-    peak = (
-        torch.stack(
-            [
-                torch.div(spot.flatten(1).argmax(1), CROP_SIZE, rounding_mode="floor"),
-                spot.flatten(1).argmax(1) % CROP_SIZE,
-            ],
-            1,
-        ).float()
-        + 0.5
-    )
-    assert torch.all((peak - CROP_SIZE / 2).abs() <= 0.23 * CROP_SIZE + 1)
-    assert torch.all(spot[:, 0, 0] < spot.amax(dim=(1, 2)) * 0.5)  # a spot, not a wash over the crop
-    assert torch.equal(add_glare(x, torch.Generator().manual_seed(1), 0.0), x)
 
 
 def _disc_and_cap() -> tuple[torch.Tensor, torch.Tensor]:

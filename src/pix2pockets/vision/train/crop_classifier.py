@@ -97,7 +97,6 @@ class CropTrainConfig(CropTrainSettings):
         centre_jitter: largest crop centre shift, in ball diameters.
         scale_jitter: crop diameter scale range.
         low_res: share of the training crops re-sampled through 7-20 px (far or blurred balls).
-        glare: share of the training crops given a bright highlight spot (:func:`add_glare`).
         crop_size: side of a crop [px], a multiple of 8 (inference reads it from the ONNX input).
     """
 
@@ -110,7 +109,6 @@ class CropTrainConfig(CropTrainSettings):
     centre_jitter: float = CropConfig().centre_jitter
     scale_jitter: tuple[float, float] = CropConfig().scale_jitter
     low_res: float = CropConfig().low_res
-    glare: float = 0.0
     crop_size: int = CROP_SIZE
 
     def check(self) -> None:
@@ -118,8 +116,6 @@ class CropTrainConfig(CropTrainSettings):
             raise ValueError(f"class_power must be in [0, 1], got {self.class_power}")
         if self.head not in HEADS:
             raise ValueError(f"head must be one of {HEADS}, got {self.head!r}")
-        if not 0 <= self.glare <= 1:
-            raise ValueError(f"glare must be in [0, 1], got {self.glare}")
         if self.crop_size < 16 or self.crop_size % 8:
             raise ValueError(f"crop_size must be a multiple of 8 and >= 16, got {self.crop_size}")
         if not 0 <= self.low_res <= 1:
@@ -144,34 +140,6 @@ def augment(x: torch.Tensor, gen: torch.Generator) -> torch.Tensor:
         x = x.flip(3)
     x = torch.rot90(x, int(torch.randint(0, 4, (1,), generator=gen)), dims=(2, 3))
     return photometric(x, gen)
-
-
-def add_glare(x: torch.Tensor, gen: torch.Generator, share: float) -> torch.Tensor:
-    """A bright highlight on `share` of the crops (N, 3, S, S) in 0-255: a round Gaussian spot of white light
-    (sigma 4-12 % of the crop side, peak +80 to +220) within 0.22 crop sides of the middle, where a ball sits.
-
-    Real balls under bar lamps show large glossy highlights that renders rarely have; a white spot on a solid
-    ball is not a stripe's white half.
-    """
-    n, _, size, _ = x.shape
-    chosen = torch.rand(n, generator=gen) < share
-    if not bool(chosen.any()):
-        return x
-    k = int(chosen.sum())
-
-    def u(lo: float, hi: float, *shape: int) -> torch.Tensor:
-        return lo + (hi - lo) * torch.rand(k, *shape, generator=gen)
-
-    centre = size / 2 + u(-0.22, 0.22, 2) * size
-    sigma = u(0.04, 0.12) * size
-    peak = u(80.0, 220.0)
-    grid = torch.arange(size, dtype=x.dtype) + 0.5
-    dy = (grid[None, :] - centre[:, 1:2]) ** 2
-    dx = (grid[None, :] - centre[:, 0:1]) ** 2
-    spot = torch.exp(-(dy[:, :, None] + dx[:, None, :]) / (2 * sigma[:, None, None] ** 2)) * peak[:, None, None]
-    x = x.clone()
-    x[chosen] = (x[chosen] + spot[:, None]).clamp(0, 255)
-    return x
 
 
 def photometric(x: torch.Tensor, gen: torch.Generator) -> torch.Tensor:
@@ -231,7 +199,7 @@ def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
     model = CropNet(cfg.widths, cfg.head, cfg.crop_size)
 
     def batch_loss(net: nn.Module, x: torch.Tensor, y: torch.Tensor, gen: torch.Generator) -> torch.Tensor:
-        return nn.functional.cross_entropy(net(add_glare(augment(x, gen), gen, cfg.glare)), y, weight=weight)
+        return nn.functional.cross_entropy(net(augment(x, gen)), y, weight=weight)
 
     fit_crops(
         model,
