@@ -60,6 +60,16 @@ def test_missing_dots(view, hidden):
     assert np.abs(fit.corners_px - cam.project_table(SPEC.corners, 0.0)).max() < 6.0
 
 
+@pytest.mark.parametrize("view", ["45", "front"])
+def test_a_fit_must_explain_six_diamonds(view):
+    cam = VIEWS[view]
+    dots = dots_of(cam, 0.3)
+    six = [0, 1, 2, 3, 6, 7]  # four on the bottom rail, two on the foot rail
+    assert fit_table(dots[six], cam.image_size, SPEC).n_matched == 6
+    with pytest.raises(TableFitError, match="only 5 diamonds fit a 9ft table, 6 are needed"):
+        fit_table(dots[[0, 1, 2, 6, 7]], cam.image_size, SPEC)
+
+
 def test_false_positive_dots_are_ignored():
     cam = VIEWS["45"]
     rng = np.random.default_rng(3)

@@ -44,6 +44,11 @@ RAIL_DIAMONDS: tuple[tuple[int, ...], ...] = ((0, 1, 2, 3, 4, 5), (6, 7, 8), (9,
 """Diamond indices of each rail in ``TableSpec.diamonds`` order: bottom, foot, top, head."""
 
 MIN_DOTS = 4
+MIN_MATCHED_DOTS = 6
+"""Diamonds a fitted camera must explain. Four diamonds on two rails fix a camera and a fifth leaves one point
+to check it, so such fits are hardly checked: on real phone photos three of the four fits from four or five
+diamonds drew the table in the wrong place, all thirteen from six or more in the right one (twentieth session,
+``docs/benchmarks-vision.md``). Fewer dots still give rail-line hypotheses; they are refused at the end."""
 MIN_DOTS_FOR_ASPECT = 10
 """Matched diamonds a fit with a guessed export stretch (one the balls do not show) needs; else ``MIN_DOTS``."""
 MAX_DOTS = 40  # more candidates than this are cut by confidence (false positives)
@@ -706,7 +711,12 @@ def _fit_labelled(
     index[dot_rows[~keep[: len(dot_rows)]]] = -1
     m = index >= 0
     n_matched = int(m.sum())
-    if n_matched < max(MIN_DOTS, 0.5 * len(pts)):
+    if n_matched < MIN_MATCHED_DOTS:
+        raise TableFitError(
+            f"too few table points: only {n_matched} diamonds fit a {spec.name} table, {MIN_MATCHED_DOTS} are needed "
+            "to check the fit (show more of the table: two rails with their sights)"
+        )
+    if n_matched < 0.5 * len(pts):
         raise TableFitError(
             f"no table found: only {n_matched} of {len(pts)} dots fit the diamond pattern of a {spec.name} table"
         )
