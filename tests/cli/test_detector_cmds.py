@@ -57,6 +57,28 @@ def test_evaluate_with_and_without_the_number_reader(toy, tmp_path):
     assert "ball-numbers.onnx" in models[0] and "ball-numbers.onnx" not in models[2]
 
 
+def test_evaluate_only_the_chosen_camera_kinds(toy, tmp_path, capsys):
+    from pix2pockets.synth import write_dataset
+
+    manifest = write_dataset(tmp_path / "r", 5, seed=6, size=(192, 108), split=(0, 0, 1))
+    kinds = [it["camera"] for it in manifest["images"]]
+    args = ["evaluate", "detector", "--detector", "hough", "--quiet"]
+    out = tmp_path / "e.json"
+    assert main([*args, "--data", str(tmp_path / "r"), "--cameras", kinds[0], "--json", str(out)]) == 0
+    rep = json.loads(out.read_text())
+    assert rep["n_images"] == kinds.count(kinds[0]) and rep["camera_kinds"] == [kinds[0]]
+    absent = next(k for k in ("top", "high", "low", "jib", "phone", "phone_low") if k not in kinds)
+    for data, cameras, message in (
+        (tmp_path / "r", absent, f"taken with {absent} cameras"),
+        (toy, "top", "no camera kind for"),  # not rendered: no sidecars
+        (toy, "tv", "unknown camera kind 'tv'"),
+    ):
+        bad = tmp_path / "bad.json"
+        assert main([*args, "--data", str(data), "--cameras", cameras, "--json", str(bad)]) == 2
+        assert message in capsys.readouterr().err
+        assert not bad.exists()
+
+
 def test_evaluate_missing_split_is_clean_error(toy, tmp_path, capsys):
     args = ["evaluate", "detector", "--data", str(toy), "--split", "nope", "--detector", "hough"]
     rc = main([*args, "--json", str(tmp_path / "x.json")])

@@ -92,3 +92,24 @@ def test_layout_mode_forces_every_scene_s_layout(tmp_path):
         write_dataset(tmp_path / "bad", 2, size=SIZE, layout_mode="triangle")
     assert main(["synth", "--n", "1", "--out", str(tmp_path / "cli"), "--size", "192x108", "--layout", "endgame"]) == 0
     assert json.loads((tmp_path / "cli" / "manifest.json").read_text())["layout_mode"] == "endgame"
+
+
+def test_camera_kinds_restrict_every_scene_s_camera(tmp_path):
+    manifest = write_dataset(tmp_path / "tv", 4, seed=3, size=SIZE, split=(0, 0, 1), camera_kinds=["broadcast"])
+    assert manifest["camera_kinds"] == ["top", "high", "jib"]
+    for item in manifest["images"]:
+        meta = json.loads((tmp_path / "tv" / item["image"].replace("images", "meta")).with_suffix(".json").read_text())
+        assert item["camera"] == meta["camera"]["kind"] and item["camera"] in ("top", "high", "jib")
+    with pytest.raises(ValueError, match="views 1"):
+        write_dataset(tmp_path / "mv", 1, size=SIZE, views=3, camera_kinds=["top"])
+    assert not (tmp_path / "mv").exists()
+
+
+def test_synth_cameras_option(tmp_path, capsys):
+    out = tmp_path / "cli"
+    assert main(["synth", "--n", "2", "--out", str(out), "--size", "192x108", "--cameras", "low", "--no-progress"]) == 0
+    assert {it["camera"] for it in json.loads((out / "manifest.json").read_text())["images"]} == {"low"}
+    bad = tmp_path / "bad"
+    assert main(["synth", "--n", "1", "--out", str(bad), "--size", "64x36", "--cameras", "drone", "--no-progress"]) == 2
+    assert "unknown camera kind 'drone'" in capsys.readouterr().err
+    assert not bad.exists()

@@ -9,7 +9,7 @@ import pytest
 
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.table import TableSpec
-from pix2pockets.synth.cameras import CAMERA_KINDS, sample_camera, table_coverage
+from pix2pockets.synth.cameras import BROADCAST_KINDS, CAMERA_KINDS, camera_kinds, sample_camera, table_coverage
 from pix2pockets.synth.labels import sphere_outline_px, yolo_lines
 from pix2pockets.synth.layouts import LAYOUT_MODES, sample_layout
 from pix2pockets.synth.people import draw_figure
@@ -53,6 +53,24 @@ def test_cameras_see_the_table_from_above(kind):
 def test_unknown_camera_kind():
     with pytest.raises(ValueError, match="unknown camera kind"):
         sample_camera(np.random.default_rng(0), SPEC, (320, 180), "drone")
+    with pytest.raises(ValueError, match="unknown camera kind 'drone'"):
+        sample_camera(np.random.default_rng(0), SPEC, (320, 180), ["top", "drone"])
+
+
+def test_camera_kinds_from_names_and_groups():
+    assert camera_kinds("broadcast") == BROADCAST_KINDS == ("top", "high", "jib")
+    assert camera_kinds("phone_low, top,phone") == ("top", "phone", "phone_low")  # CAMERA_KINDS order
+    assert camera_kinds(["jib", "broadcast", "low"]) == ("top", "high", "low", "jib")
+    for bad in ("", " , ", "tv"):
+        with pytest.raises(ValueError):
+            camera_kinds(bad)
+
+
+def test_cameras_drawn_among_the_given_kinds():
+    got = {sample_camera(np.random.default_rng(i), SPEC, (320, 180), ("top", "low"))[1] for i in range(40)}
+    assert got == {"top", "low"}
+    broadcast = [sample_camera(np.random.default_rng(i), SPEC, (320, 180), ["broadcast"])[1] for i in range(40)]
+    assert set(broadcast) == set(BROADCAST_KINDS)
 
 
 def test_figures_are_z_buffered():

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from pix2pockets.vision.yolo_data import (
+    camera_kind_of,
     dataset_class_map,
     load_split,
     load_splits,
@@ -62,3 +63,16 @@ def test_load_splits_joins_datasets_and_drops_excluded_names(tmp_path):
     (roots[1] / "test" / "labels" / "a.txt").rename(roots[1] / "test" / "labels" / "yt-0001.txt")
     assert [it.image_path.name for it in load_splits(roots, "test")] == ["a.jpg", "yt-0001.jpg"]
     assert [it.image_path.name for it in load_splits(roots, "test", exclude=["yt-*"])] == ["a.jpg"]
+
+
+def test_camera_kind_of_reads_the_synth_sidecar(tmp_path):
+    (tmp_path / "test" / "images").mkdir(parents=True)
+    (tmp_path / "test" / "meta").mkdir()
+    image = tmp_path / "test" / "images" / "a.jpg"
+    (tmp_path / "test" / "meta" / "a.json").write_text(json.dumps({"camera": {"kind": "jib"}}))
+    assert camera_kind_of(image) == "jib"
+    (tmp_path / "test" / "meta" / "a.json").write_text(json.dumps({"camera": {}}))
+    with pytest.raises(ValueError, match=r"no camera kind for a\.jpg"):
+        camera_kind_of(image)
+    with pytest.raises(ValueError, match="pix2pockets synth"):
+        camera_kind_of(tmp_path / "test" / "images" / "b.jpg")

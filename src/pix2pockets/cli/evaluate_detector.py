@@ -38,12 +38,19 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="post-processing of the 'after' column: the paper's NMS + caps (default) or the pipeline's "
         "class-aware one",
     )
+    parser.add_argument(
+        "--cameras",
+        default=None,
+        help="rendered datasets: score only images taken with these camera kinds, comma-separated, e.g. "
+        "'broadcast' (top,high,jib) or 'phone,phone_low,low' (read from meta/*.json; default: all images)",
+    )
     parser.add_argument("--force", action="store_true", help="overwrite an existing --json file")
     parser.add_argument("--quiet", action="store_true", help="no progress bar")
     parser.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
+    from pix2pockets.synth.cameras import camera_kinds
     from pix2pockets.vision.evaluation import EvalOptions, evaluate_detector, format_table
 
     check_output(args.json_out, args.force)
@@ -76,6 +83,7 @@ def run(args: argparse.Namespace) -> int:
         limit=args.limit,
         post=args.post,
         table_class=args.table_class,
+        camera_kinds=None if args.cameras is None else camera_kinds(args.cameras),
     )
     report = evaluate_detector(detector, args.data, opts, progress=not args.quiet)
     report.update({"data": str(args.data), "model": model, "conf_threshold": args.conf})

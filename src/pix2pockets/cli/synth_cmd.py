@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from pix2pockets.synth.cameras import BROADCAST_KINDS, CAMERA_KINDS
 from pix2pockets.synth.layouts import LAYOUT_MODES
 
 
@@ -32,6 +33,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=None,
         help="every scene's ball layout of this kind, e.g. 'rack' (default: drawn per scene as in real games)",
     )
+    parser.add_argument(
+        "--cameras",
+        default=None,
+        help="draw each camera among these kinds, comma-separated: "
+        + ", ".join(CAMERA_KINDS)
+        + ", or 'broadcast' ("
+        + ",".join(BROADCAST_KINDS)
+        + "; default: all kinds)",
+    )
     parser.add_argument("--force", action="store_true", help="overwrite a non-empty output folder")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     parser.set_defaults(func=run)
@@ -54,6 +64,7 @@ def run(args: argparse.Namespace) -> int:
         progress=not args.no_progress,
         only_split=args.only_split,
         layout_mode=args.layout,
+        camera_kinds=None if args.cameras is None else [args.cameras],
     )
     counts = ", ".join(f"{k} {v}" for k, v in manifest["counts"].items())
     print(f"wrote {sum(manifest['counts'].values())} images to {args.out} ({counts})")

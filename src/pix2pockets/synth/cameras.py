@@ -7,6 +7,7 @@ Every camera is a :class:`~pix2pockets.geometry.camera.PinholeCamera` built with
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 
 import numpy as np
 
@@ -22,6 +23,36 @@ CAMERA_KINDS: dict[str, float] = {
     "phone_low": 0.08,
 }
 """Camera kinds and their sampling probabilities."""
+
+BROADCAST_KINDS = ("top", "high", "jib")
+"""The kinds a TV broadcast shows the whole table from: overhead, a high end view, a camera jib."""
+
+CAMERA_GROUPS: dict[str, tuple[str, ...]] = {"broadcast": BROADCAST_KINDS}
+"""Names for sets of camera kinds (accepted wherever a list of kinds is)."""
+
+
+def camera_kinds(names: str | Sequence[str]) -> tuple[str, ...]:
+    """Camera kinds from names of kinds or groups (a comma-separated string or a sequence), in
+    :data:`CAMERA_KINDS` order, without repeats.
+
+    Raises:
+        ValueError: an unknown name, or none at all.
+    """
+    parts = names.split(",") if isinstance(names, str) else list(names)
+    chosen: set[str] = set()
+    for raw in parts:
+        name = raw.strip()
+        if name in CAMERA_GROUPS:
+            chosen.update(CAMERA_GROUPS[name])
+        elif name in CAMERA_KINDS:
+            chosen.add(name)
+        elif name:
+            known = ", ".join([*CAMERA_KINDS, *CAMERA_GROUPS])
+            raise ValueError(f"unknown camera kind {name!r}; choose from {known}")
+    if not chosen:
+        raise ValueError("no camera kind given; choose from " + ", ".join([*CAMERA_KINDS, *CAMERA_GROUPS]))
+    return tuple(k for k in CAMERA_KINDS if k in chosen)
+
 
 VIEW_KINDS = ("top", "high", "front")
 """The three views of a multi-view set (top-down, about 45 degrees, low from an end rail)."""
@@ -108,15 +139,16 @@ def sample_camera(
     rng: np.random.Generator,
     spec: TableSpec,
     size: tuple[int, int],
-    kind: str | None = None,
+    kind: str | Sequence[str] | None = None,
     floor_z: float = -0.78,
     rail: float = 0.14,
     crop: bool = True,
 ) -> tuple[PinholeCamera, str]:
-    """A camera of the given kind (drawn from :data:`CAMERA_KINDS` when ``None``) or a multi-view kind
-    (``"front"``). ``crop=False`` keeps the whole table in a top view. Returns the camera and its kind."""
-    if kind is None:
-        keys = list(CAMERA_KINDS)
+    """A camera of the given kind or a multi-view kind (``"front"``); given several kinds, or ``None`` (all of
+    :data:`CAMERA_KINDS`), one is drawn with the :data:`CAMERA_KINDS` probabilities. ``crop=False`` keeps the
+    whole table in a top view. Returns the camera and its kind."""
+    if kind is None or not isinstance(kind, str):
+        keys = list(CAMERA_KINDS) if kind is None else list(camera_kinds(kind))
         p = np.array([CAMERA_KINDS[k] for k in keys])
         kind = keys[int(rng.choice(len(keys), p=p / p.sum()))]
     centre = np.array([spec.length / 2, spec.width / 2, 0.0])

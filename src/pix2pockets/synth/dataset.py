@@ -23,6 +23,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from pix2pockets.synth.cameras import camera_kinds as camera_kinds_of
 from pix2pockets.synth.labels import yolo_lines
 from pix2pockets.synth.layouts import LAYOUT_MODES
 from pix2pockets.synth.renderer import DEFAULT_SIZE, Render, render, render_views
@@ -122,6 +123,7 @@ def write_dataset(
     progress: bool = False,
     only_split: str | None = None,
     layout_mode: str | None = None,
+    camera_kinds: Sequence[str] | None = None,
 ) -> dict:
     """Render ``n`` scenes into a YOLO dataset at ``out_dir``.
 
@@ -138,6 +140,8 @@ def write_dataset(
             as the whole dataset holds there, e.g. a held-out test split without its training scenes.
         layout_mode: every scene's layout of this mode (``layouts.LAYOUT_MODES``, e.g. ``"rack"``); drawn per
             scene when None.
+        camera_kinds: draw each scene's camera among these kinds or groups (``cameras.CAMERA_KINDS``,
+            ``cameras.CAMERA_GROUPS``, e.g. ``["broadcast"]``) instead of all; one random camera per scene only.
 
     Returns:
         The manifest (also written to ``out_dir/manifest.json``).
@@ -155,6 +159,9 @@ def write_dataset(
         raise ValueError(f"only_split must be one of {', '.join(SPLITS)}, got {only_split!r}")
     if layout_mode is not None and layout_mode not in LAYOUT_MODES:
         raise ValueError(f"layout_mode must be one of {', '.join(LAYOUT_MODES)}, got {layout_mode!r}")
+    kinds = None if camera_kinds is None else camera_kinds_of(camera_kinds)
+    if kinds is not None and views != 1:
+        raise ValueError("camera kinds apply to one random camera per scene (views 1); views 3 are top, 45 deg, front")
     assignment = split_assignment(n, fractions, seed)
     items = []
     iterator = [i for i in range(n) if only_split is None or assignment[i] == only_split]
@@ -166,7 +173,7 @@ def write_dataset(
         for i in iterator:
             s = assignment[i]
             if views == 1:
-                rend = render((seed, i), size, layout_mode=layout_mode)
+                rend = render((seed, i), size, camera_kind=kinds, layout_mode=layout_mode)
                 stem = f"synth_{seed}_{i:06d}"
                 write_sample(tmp, s, stem, rend)
                 items.append({"image": f"{s}/images/{stem}.jpg", "scene": i, "camera": rend.labels["camera"]["kind"]})
@@ -182,6 +189,7 @@ def write_dataset(
             "n_scenes": n,
             "views": views,
             "layout_mode": layout_mode,
+            "camera_kinds": None if kinds is None else list(kinds),
             "size": list(size),
             "split": list(fractions),
             "classes": list(CLASS_NAMES),

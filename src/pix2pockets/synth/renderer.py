@@ -357,14 +357,18 @@ def scene_of(seed: Seed) -> Scene:
 
 
 def render(
-    seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, camera_kind: str | None = None, layout_mode: str | None = None
+    seed: Seed,
+    size: tuple[int, int] = DEFAULT_SIZE,
+    camera_kind: str | Sequence[str] | None = None,
+    layout_mode: str | None = None,
 ) -> Render:
     """Render the sample of ``seed`` (same seed -> identical pixels and labels).
 
     Args:
         seed: non-negative int or sequence of ints (e.g. ``(dataset_seed, index)``).
         size: (width, height) [px].
-        camera_kind: force a camera kind (see ``cameras.CAMERA_KINDS``); random when ``None``.
+        camera_kind: force a camera kind (see ``cameras.CAMERA_KINDS``), or draw among several kinds (their
+            ``CAMERA_KINDS`` probabilities); drawn among all when ``None``.
         layout_mode: force a layout mode (see ``layouts.LAYOUT_MODES``, e.g. ``"rack"``); random when ``None``.
     """
     scene, mode, r_cam, r_fx = _scene_and_streams(seed, layout_mode)

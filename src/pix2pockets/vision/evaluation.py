@@ -15,7 +15,7 @@ from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.metrics import GroundTruth, evaluate_class, evaluate_classes, mean_metrics
 from pix2pockets.vision.postprocess import DEFAULT_NMS_IOU, class_agnostic_nms, postprocess, resolve_ball_classes
 from pix2pockets.vision.table_box import inside_table_boxes
-from pix2pockets.vision.yolo_data import dataset_class_map, load_split
+from pix2pockets.vision.yolo_data import camera_kind_of, dataset_class_map, load_split
 
 TABLE_ORDER = (3, 2, 0, 1, 4)  # the paper's column order: stripes, solids, cue, black, dots
 TABLE_TITLES = {0: "Cue", 1: "Black", 2: "Solids", 3: "Stripes", 4: "Dots"}
@@ -40,6 +40,9 @@ class EvalOptions:
         post: the post-processing for the "after" column, a key of :data:`POSTPROCESSORS`.
         table_class: in agnostic mode, the dataset class id of a whole-table box: diamonds found outside it
             (widened by :data:`~pix2pockets.vision.table_box.TABLE_MARGIN`) are counted as false ("dots" in the report).
+        camera_kinds: score only rendered images taken with these camera kinds (read from their ``meta/*.json``
+            sidecars, :func:`~pix2pockets.vision.yolo_data.camera_kind_of`), e.g. the broadcast views
+            ``("top", "high", "jib")``; all images when None.
     """
 
     split: str = "test"
@@ -50,6 +53,7 @@ class EvalOptions:
     limit: int | None = None
     post: str = "paper"
     table_class: int | None = None
+    camera_kinds: tuple[str, ...] | None = None
 
     def __post_init__(self) -> None:
         if self.post not in POSTPROCESSORS:
@@ -65,7 +69,11 @@ def evaluate_detector(detector: Detector, root: str, options: EvalOptions | None
         ``"ball_head"``.
     """
     opt = options or EvalOptions()
-    items = load_split(root, opt.split, opt.limit)
+    items = load_split(root, opt.split, None if opt.camera_kinds else opt.limit)
+    if opt.camera_kinds:
+        items = [it for it in items if camera_kind_of(it.image_path) in opt.camera_kinds][: opt.limit]
+        if not items:
+            raise ValueError(f"no {opt.split} images in {root} were taken with {', '.join(opt.camera_kinds)} cameras")
     cmap = {} if opt.agnostic else dataset_class_map(root)
     gts, raws, heads, tables = [], [], [], []
     use_head = opt.agnostic and hasattr(detector, "detect_balls")
@@ -84,6 +92,8 @@ def evaluate_detector(detector: Detector, root: str, options: EvalOptions | None
     afters = [POSTPROCESSORS[opt.post](d, opt.nms_iou) for d in raws]
     report: dict = {"mode": "agnostic" if opt.agnostic else "classes", "n_images": len(items), "split": opt.split}
     report["post"] = opt.post
+    if opt.camera_kinds:
+        report["camera_kinds"] = list(opt.camera_kinds)
     if opt.agnostic:
         report["before"] = _agnostic(raws, gts, opt.conf_threshold)
         report["after"] = _agnostic(afters, gts, opt.conf_threshold)

@@ -76,6 +76,27 @@ def read_yolo_labels(path: Path, size: tuple[int, int]) -> tuple[np.ndarray, np.
     return boxes, arr[:, 0].astype(int)
 
 
+def camera_kind_of(image_path: str | Path) -> str:
+    """The camera kind (``synth.cameras.CAMERA_KINDS``) a rendered image was taken with, from its
+    ``<split>/meta/<stem>.json`` sidecar (written by ``pix2pockets synth``).
+
+    Raises:
+        ValueError: the image has no sidecar or the sidecar names no camera kind.
+    """
+    path = Path(image_path)
+    meta = path.parent.parent / "meta" / f"{path.stem}.json"
+    try:
+        kind = json.loads(meta.read_text()).get("camera", {}).get("kind")
+    except (OSError, ValueError, AttributeError):
+        kind = None
+    if not isinstance(kind, str):
+        raise ValueError(
+            f"no camera kind for {path.name}: {meta} is missing or names none (camera kinds come with datasets "
+            "rendered by pix2pockets synth)"
+        )
+    return kind
+
+
 def read_contacts(split: Path, stem: str, boxes: np.ndarray) -> np.ndarray:
     """Contact points [px] for the label rows, from a JSON sidecar if one exists, else NaN.
 
