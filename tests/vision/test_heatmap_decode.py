@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from pix2pockets.vision.classes import DOT_ID, MIN_DOT_BOX_PX
+from pix2pockets.vision.classes import DOT_ID
 from pix2pockets.vision.heatmap_decode import _dot_boxes, decode_ball_peaks, decode_peaks
 from pix2pockets.vision.heatmap_layout import BALL_ANY, CONTACT_SLICE, N_OUT, OFFSET_SLICE, SIZE_SLICE, STRIDE
 from pix2pockets.vision.letterbox import Letterbox, letterbox
@@ -58,20 +58,21 @@ def test_dot_boxes_keep_the_label_floor_at_any_input_scale():
     out[2, 2, 2] = 0.9  # a 2 px solid keeps its size
     out[SIZE_SLICE, 2, 2] = np.log(2.0 / STRIDE)
     # image at the network's size, a 720p frame (0.8), and a 1080p frame (0.53) or larger (0.5)
-    for scale, height in ((1.0, 6.0), (0.8, 6.5), (0.5, 11.0)):
+    for scale, width, height in ((1.0, 4.0, 6.0), (0.8, 4.0, 6.5), (0.5, 4.0 + 0.375 * 3.0, 11.0)):
         det = decode_peaks(out, Letterbox(scale, (120, 80)))
         dot, ball = det.boxes[det.class_id == DOT_ID][0], det.boxes[det.class_id == 2][0]
         cx, cy = 8.5 * STRIDE / scale, 6.5 * STRIDE / scale
-        # the floor stays; the 6 px side, 6 / scale px in the image, is read at most 1 px short
-        assert np.allclose(dot, [cx - MIN_DOT_BOX_PX / 2, cy - height / 2, cx + MIN_DOT_BOX_PX / 2, cy + height / 2])
+        # the floor stays up to 720p; the 6 px side, 6 / scale px in the image, is read at most 1 px short
+        assert np.allclose(dot, [cx - width / 2, cy - height / 2, cx + width / 2, cy + height / 2])
         assert ball[2] - ball[0] == pytest.approx(2.0 / scale)
 
 
-def test_dot_sizes_just_above_the_floor_blend_into_the_held_shortfall():
+def test_dot_sizes_blend_from_the_floor_share_to_the_held_shortfall():
     centre = np.zeros((3, 2))
     net = np.array([[4.0, 4.0], [4.5, 4.5], [5.0, 5.0]])  # the floor, half-way, full hold
     sizes = _dot_boxes(centre, net, 0.5)[:, 2] * 2
-    assert np.allclose(sizes, [4.0, 4.0 + 1.0 + 0.5 * 3.0, 4.0 + 2.0 + 3.0])  # 10 px sight read 9 px
+    # a floor-sized 2-8 px sight is read 5.1 px, a 10 px sight 9 px, 1 px short
+    assert np.allclose(sizes, [4.0 + 0.375 * 3.0, 4.0 + 1.0 + (0.5 + 0.5 * 0.375) * 3.0, 4.0 + 2.0 + 3.0])
     assert np.allclose(_dot_boxes(centre, net, 0.8)[:, 2] * 2, 4.0 + (net[:, 0] - 4.0) / 0.8)  # 720p unchanged
 
 

@@ -150,27 +150,31 @@ def _assemble(
 
 
 DOT_SHORT_READ_MAX_PX = 1.0
-"""The most a diamond box clearly above the floor is read short of its scaled size [image px] (below)."""
+"""The most a diamond box is read short of the sight's size in the image [image px] (:func:`_dot_boxes`)."""
 
 DOT_FULL_SCALE_FROM_PX = MIN_DOT_BOX_PX + 1.0
-"""Predicted diamond size [network px] from which the short reading is held to :data:`DOT_SHORT_READ_MAX_PX`."""
+"""Predicted diamond size [network px] from which a box is read at most :data:`DOT_SHORT_READ_MAX_PX` short."""
+
+DOT_FLOOR_SHARE = 0.375
+"""How far up the sizes it may stand for a floor-sized diamond prediction is read, beyond the first
+:data:`DOT_SHORT_READ_MAX_PX` (chosen on 1080p validation renders among 0.25, 0.375, 0.5, 0.75)."""
 
 
 def _dot_boxes(centre: np.ndarray, size_net: np.ndarray, scale: float) -> np.ndarray:
     """Diamond boxes (n, 4) in image pixels from centres [image px] and predicted sizes [network px].
 
     The training labels pad a sight's outline to :data:`MIN_DOT_BOX_PX` in the pixels the network sees, so a
-    predicted size at that floor means "a sight this small or smaller", whatever the input scale: it maps to
-    the same floor in image pixels, and only the part above the floor scales with the image. That reads a
-    larger sight ``MIN_DOT_BOX_PX x (1 / scale - 1)`` px short: 1 px for a 720p frame (input scale 0.8), which
-    the diamond refiner was trained on and re-reads well, but 3.5 px for a 1080p frame (0.53), from which it
-    does not recover. From :data:`DOT_FULL_SCALE_FROM_PX` up, the shortfall is held to
-    :data:`DOT_SHORT_READ_MAX_PX` (blended in linearly above the floor); photos at 720p or smaller are
-    unchanged. Twenty-first session: 1080p dot AP50 82.9 -> 90.3 on validation renders
-    (``docs/benchmarks-detector.md``).
+    predicted size at that floor means "a sight this small or smaller": at an input scale below 1 anything from
+    the floor to ``MIN_DOT_BOX_PX / scale`` image px. The floor maps to the same floor in image pixels and
+    only the part above it scales with the image, which reads a larger sight ``MIN_DOT_BOX_PX x (1 / scale -
+    1)`` px short: 1 px in a 720p frame (input scale 0.8), which the diamond refiner was trained on and re-reads
+    well, but 3.5 px in a 1080p frame (0.53), from which it does not recover. Beyond
+    :data:`DOT_SHORT_READ_MAX_PX` that shortfall is made up: in full from :data:`DOT_FULL_SCALE_FROM_PX` up,
+    by :data:`DOT_FLOOR_SHARE` at the floor, linearly between. Frames of 720p or smaller are unchanged.
+    Twenty-first session: 1080p validation dot AP50 82.9 -> 93.3 (``docs/benchmarks-detector.md``).
     """
     size = MIN_DOT_BOX_PX + np.maximum(size_net - MIN_DOT_BOX_PX, 0.0) / scale
-    excess_short = max(MIN_DOT_BOX_PX * (1.0 / scale - 1.0) - DOT_SHORT_READ_MAX_PX, 0.0)
-    blend = np.clip((size_net - MIN_DOT_BOX_PX) / (DOT_FULL_SCALE_FROM_PX - MIN_DOT_BOX_PX), 0.0, 1.0)
-    size = size + blend * excess_short
+    shortfall = max(MIN_DOT_BOX_PX * (1.0 / scale - 1.0) - DOT_SHORT_READ_MAX_PX, 0.0)
+    full = np.clip((size_net - MIN_DOT_BOX_PX) / (DOT_FULL_SCALE_FROM_PX - MIN_DOT_BOX_PX), 0.0, 1.0)
+    size = size + (full + (1.0 - full) * DOT_FLOOR_SHARE) * shortfall
     return np.hstack([centre - size / 2, centre + size / 2])
