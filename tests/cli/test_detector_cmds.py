@@ -240,11 +240,18 @@ def test_train_ball_classifier_head_copies_and_jitter(toy, tmp_path, capsys):
     pytest.importorskip("onnx", reason="ONNX export needs the onnx package (train extra)")
     args = ["train-ball-classifier", "--data", str(toy), "--epochs", "1", "--quiet", "--widths", "8,8,8"]
     extra = ["--head", "mean", "--copies", "2", "--centre-jitter", "0.12", "--scale-jitter", "0.85,1.18"]
-    extra += ["--low-res", "0.1", "--class-power", "0.25"]
+    extra += ["--low-res", "0.1", "--class-power", "0.25", "--icon-negatives", "0.5"]
     assert main([*args, "--out", str(tmp_path / "a"), *extra]) == 0
-    config = json.loads((tmp_path / "a" / "metrics.json").read_text())["config"]
+    metrics = json.loads((tmp_path / "a" / "metrics.json").read_text())
+    config = metrics["config"]
     assert (config["head"], config["copies"], config["centre_jitter"]) == ("mean", 2, 0.12)
     assert (config["scale_jitter"], config["low_res"], config["class_power"]) == ([0.85, 1.18], 0.1, 0.25)
+    assert config["icon_negatives"] == 0.5
+    plain = ["--head", "mean", "--copies", "2", "--centre-jitter", "0.12", "--scale-jitter", "0.85,1.18"]
+    assert main([*args, "--out", str(tmp_path / "p"), *plain, "--low-res", "0.1", "--class-power", "0.25"]) == 0
+    counts = metrics["train_counts"]  # the icons are "no ball" crops, half as many as the ball crops
+    plain_counts = json.loads((tmp_path / "p" / "metrics.json").read_text())["train_counts"]
+    assert counts[:4] == plain_counts[:4] and counts[4] - plain_counts[4] == round(0.5 * sum(counts[:4]))
     assert main([*args, "--out", str(tmp_path / "b"), "--scale-jitter", "1.2"]) == 2
     assert "--scale-jitter" in capsys.readouterr().err and not (tmp_path / "b").exists()
     assert main([*args, "--out", str(tmp_path / "c"), "--low-res", "1.5"]) == 2

@@ -44,6 +44,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         default=0.5,
         help="loss weight of a class = frequency ** -POWER (default 0.5; 0: unweighted)",
     )
+    parser.add_argument(
+        "--icon-negatives",
+        type=float,
+        default=0.0,
+        help="flat ball icons of broadcast graphics as 'no ball' crops, per labelled-ball crop (default 0)",
+    )
     parser.set_defaults(func=run)
 
 
@@ -61,6 +67,7 @@ def run(args: argparse.Namespace) -> int:
         low_res=args.low_res,
         class_power=args.class_power,
         crop_size=args.crop_size,
+        icon_negatives=args.icon_negatives,
     )
     print(f"wrote {train_crop_classifier(cfg, progress=not args.quiet)}")
     return 0

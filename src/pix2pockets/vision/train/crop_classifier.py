@@ -21,8 +21,9 @@ from torch import nn
 from pix2pockets.vision.ball_classifier import OUTPUT_NAME
 from pix2pockets.vision.ball_crops import CROP_SIZE
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.train.crop_data import CROP_LABELS, CropConfig, collect_crops
+from pix2pockets.vision.train.crop_data import CROP_LABELS, NO_BALL, CropConfig, collect_crops, degrade_crops
 from pix2pockets.vision.train.crop_fit import CropTrainSettings, fit_crops, labelled_sources, predict_crops
+from pix2pockets.vision.train.icon_crops import ball_icon_crops
 from pix2pockets.vision.train.onnx_export import write_onnx
 from pix2pockets.vision.yolo_data import load_splits
 
@@ -98,6 +99,8 @@ class CropTrainConfig(CropTrainSettings):
         scale_jitter: crop diameter scale range.
         low_res: share of the training crops re-sampled through 7-20 px (far or blurred balls).
         crop_size: side of a crop [px], a multiple of 8 (inference reads it from the ONNX input).
+        icon_negatives: flat ball icons (broadcast graphics, :mod:`~pix2pockets.vision.train.icon_crops`) added
+            as "no ball" crops, per labelled-ball crop (0: none).
     """
 
     command: ClassVar[str] = "train-ball-classifier"
@@ -110,6 +113,7 @@ class CropTrainConfig(CropTrainSettings):
     scale_jitter: tuple[float, float] = CropConfig().scale_jitter
     low_res: float = CropConfig().low_res
     crop_size: int = CROP_SIZE
+    icon_negatives: float = 0.0
 
     def check(self) -> None:
         if not 0 <= self.class_power <= 1:
@@ -120,6 +124,8 @@ class CropTrainConfig(CropTrainSettings):
             raise ValueError(f"crop_size must be a multiple of 8 and >= 16, got {self.crop_size}")
         if not 0 <= self.low_res <= 1:
             raise ValueError(f"low_res must be in [0, 1], got {self.low_res}")
+        if not 0 <= self.icon_negatives <= 1:
+            raise ValueError(f"icon_negatives must be in [0, 1], got {self.icon_negatives}")
         if not 0 <= self.centre_jitter < 0.5 or not 0 < self.scale_jitter[0] <= self.scale_jitter[1]:
             raise ValueError(
                 f"centre_jitter must be in [0, 0.5) and scale_jitter a range lo <= hi above 0, got "
@@ -187,6 +193,11 @@ def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
         crop_size=cfg.crop_size,
     )
     crops, labels = collect_crops(train, read_image_rgb, cfg.seed, crop_cfg, progress)
+    if cfg.icon_negatives > 0:
+        rng = np.random.default_rng((cfg.seed, 1))
+        icons = ball_icon_crops(round(cfg.icon_negatives * int((labels < NO_BALL).sum())), rng, cfg.crop_size)
+        crops = np.concatenate([crops, degrade_crops(icons, rng, cfg.low_res)])
+        labels = np.concatenate([labels, np.full(len(icons), NO_BALL)])
     test = _sources(cfg, "test")
     test_cfg = CropConfig(copies=1, crop_size=cfg.crop_size)
     test_crops, test_labels = (
