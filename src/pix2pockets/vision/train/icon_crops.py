@@ -4,8 +4,10 @@ TV pool graphics show the balls left or pocketed as a row of small flat discs be
 detector trained on renders reads them as balls; these crops teach the ball classifier that a flat disc
 with no shading is not a ball on the table. An icon fills the crop as a labelled ball does (the crop is
 1.5 diameters wide, ``vision.ball_crops``), with the icon kinds of a set: solid colours, stripes (a band on
-white), the cue ball and the 8, with or without a white number disc, outlined or not, sometimes greyed
-out (pocketed) and sometimes touching its neighbours in the row.
+white) and the cue ball, with or without a white number disc, outlined or not, sometimes greyed out
+(pocketed) and sometimes touching its neighbours in the row. The 8 is left out of the middle of a crop: a
+real 8-ball shows hardly any shading, so it too reads as a flat black disc with a white number circle, and
+a classifier taught that such a disc is no ball dropped real eights (twenty-first session).
 """
 
 from __future__ import annotations
@@ -25,6 +27,9 @@ ICON_COLOURS_RGB: tuple[tuple[int, int, int], ...] = (
     (130, 30, 30),  # 7 maroon
 )
 """Ball colours of the standard set as flat graphics paint them."""
+
+ICON_NUMBERS: tuple[int, ...] = tuple(n for n in range(16) if n != 8)
+"""Balls drawn as the icon in the middle of a crop (neighbours may be any ball)."""
 
 SUPERSAMPLE = 4
 CROP_DIAMETERS = 1.5  # a crop is this many ball diameters wide (vision.ball_crops)
@@ -89,7 +94,7 @@ def ball_icon_crops(n: int, rng: np.random.Generator, crop_size: int = CROP_SIZE
             step = int(2 * radius * rng.uniform(1.0, 1.3))
             for side in (-1, 1):
                 _draw_icon(img, (centre[0] + side * step, centre[1]), radius, int(rng.integers(0, 16)), rng)
-        _draw_icon(img, centre, radius, int(rng.integers(0, 16)), rng)
+        _draw_icon(img, centre, radius, ICON_NUMBERS[int(rng.integers(len(ICON_NUMBERS)))], rng)
         if rng.random() < 0.25:  # a pocketed ball, drawn faded into the panel
             img = cv2.addWeighted(img, 0.4, _panel(rng, big), 0.6, 0.0)
         out[i] = cv2.resize(img, (crop_size, crop_size), interpolation=cv2.INTER_AREA)
