@@ -109,6 +109,10 @@ def test_synth_cameras_option(tmp_path, capsys):
     out = tmp_path / "cli"
     assert main(["synth", "--n", "2", "--out", str(out), "--size", "192x108", "--cameras", "low", "--no-progress"]) == 0
     assert {it["camera"] for it in json.loads((out / "manifest.json").read_text())["images"]} == {"low"}
+    two = tmp_path / "two"
+    args = ["synth", "--n", "6", "--out", str(two), "--size", "64x36", "--cameras", "top,low", "--no-progress"]
+    assert main(args) == 0
+    assert json.loads((two / "manifest.json").read_text())["camera_kinds"] == ["top", "low"]
     bad = tmp_path / "bad"
     assert main(["synth", "--n", "1", "--out", str(bad), "--size", "64x36", "--cameras", "drone", "--no-progress"]) == 2
     assert "unknown camera kind 'drone'" in capsys.readouterr().err

@@ -61,6 +61,7 @@ def test_camera_kinds_from_names_and_groups():
     assert camera_kinds("broadcast") == BROADCAST_KINDS == ("top", "high", "jib")
     assert camera_kinds("phone_low, top,phone") == ("top", "phone", "phone_low")  # CAMERA_KINDS order
     assert camera_kinds(["jib", "broadcast", "low"]) == ("top", "high", "low", "jib")
+    assert camera_kinds(["phone,low", "top"]) == ("top", "low", "phone")
     for bad in ("", " , ", "tv"):
         with pytest.raises(ValueError):
             camera_kinds(bad)

@@ -36,11 +36,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--cameras",
         default=None,
-        help="draw each camera among these kinds, comma-separated: "
-        + ", ".join(CAMERA_KINDS)
-        + ", or 'broadcast' ("
-        + ",".join(BROADCAST_KINDS)
-        + "; default: all kinds)",
+        help=f"draw each camera among these kinds, comma-separated: {', '.join(CAMERA_KINDS)}, or 'broadcast' "
+        f"({','.join(BROADCAST_KINDS)}; default: all kinds)",
     )
     parser.add_argument("--force", action="store_true", help="overwrite a non-empty output folder")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
@@ -64,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
         progress=not args.no_progress,
         only_split=args.only_split,
         layout_mode=args.layout,
-        camera_kinds=None if args.cameras is None else [args.cameras],
+        camera_kinds=args.cameras,
     )
     counts = ", ".join(f"{k} {v}" for k, v in manifest["counts"].items())
     print(f"wrote {sum(manifest['counts'].values())} images to {args.out} ({counts})")

@@ -32,25 +32,24 @@ CAMERA_GROUPS: dict[str, tuple[str, ...]] = {"broadcast": BROADCAST_KINDS}
 
 
 def camera_kinds(names: str | Sequence[str]) -> tuple[str, ...]:
-    """Camera kinds from names of kinds or groups (a comma-separated string or a sequence), in
+    """Camera kinds from names of kinds or groups (comma-separated, in one string or several), in
     :data:`CAMERA_KINDS` order, without repeats.
 
     Raises:
         ValueError: an unknown name, or none at all.
     """
-    parts = names.split(",") if isinstance(names, str) else list(names)
+    known = ", ".join([*CAMERA_KINDS, *CAMERA_GROUPS])
     chosen: set[str] = set()
-    for raw in parts:
-        name = raw.strip()
-        if name in CAMERA_GROUPS:
-            chosen.update(CAMERA_GROUPS[name])
-        elif name in CAMERA_KINDS:
-            chosen.add(name)
-        elif name:
-            known = ", ".join([*CAMERA_KINDS, *CAMERA_GROUPS])
-            raise ValueError(f"unknown camera kind {name!r}; choose from {known}")
+    for part in [names] if isinstance(names, str) else names:
+        for name in (n.strip() for n in part.split(",")):
+            if name in CAMERA_GROUPS:
+                chosen.update(CAMERA_GROUPS[name])
+            elif name in CAMERA_KINDS:
+                chosen.add(name)
+            elif name:
+                raise ValueError(f"unknown camera kind {name!r}; choose from {known}")
     if not chosen:
-        raise ValueError("no camera kind given; choose from " + ", ".join([*CAMERA_KINDS, *CAMERA_GROUPS]))
+        raise ValueError(f"no camera kind given; choose from {known}")
     return tuple(k for k in CAMERA_KINDS if k in chosen)
 
 

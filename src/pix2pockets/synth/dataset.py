@@ -123,7 +123,7 @@ def write_dataset(
     progress: bool = False,
     only_split: str | None = None,
     layout_mode: str | None = None,
-    camera_kinds: Sequence[str] | None = None,
+    camera_kinds: str | Sequence[str] | None = None,
 ) -> dict:
     """Render ``n`` scenes into a YOLO dataset at ``out_dir``.
 
@@ -141,7 +141,8 @@ def write_dataset(
         layout_mode: every scene's layout of this mode (``layouts.LAYOUT_MODES``, e.g. ``"rack"``); drawn per
             scene when None.
         camera_kinds: draw each scene's camera among these kinds or groups (``cameras.CAMERA_KINDS``,
-            ``cameras.CAMERA_GROUPS``, e.g. ``["broadcast"]``) instead of all; one random camera per scene only.
+            ``cameras.CAMERA_GROUPS``, e.g. ``"broadcast"`` or ``"phone,phone_low"``) instead of all; one random
+            camera per scene only.
 
     Returns:
         The manifest (also written to ``out_dir/manifest.json``).

@@ -15,7 +15,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from pix2pockets.vision.ball_crops import CROP_SIZE
+from pix2pockets.vision.ball_crops import CROP_CONTEXT, CROP_SIZE
 
 ICON_COLOURS_RGB: tuple[tuple[int, int, int], ...] = (
     (250, 200, 30),  # 1 yellow
@@ -32,7 +32,6 @@ ICON_NUMBERS: tuple[int, ...] = tuple(n for n in range(16) if n != 8)
 """Balls drawn as the icon in the middle of a crop (neighbours may be any ball)."""
 
 SUPERSAMPLE = 4
-CROP_DIAMETERS = 1.5  # a crop is this many ball diameters wide (vision.ball_crops)
 
 
 def _panel(rng: np.random.Generator, side: int) -> np.ndarray:
@@ -87,7 +86,7 @@ def ball_icon_crops(n: int, rng: np.random.Generator, crop_size: int = CROP_SIZE
     out = np.empty((n, crop_size, crop_size, 3), np.uint8)
     for i in range(n):
         img = _panel(rng, big)
-        radius = int(big / CROP_DIAMETERS / 2 * rng.uniform(0.9, 1.1))
+        radius = int(big / CROP_CONTEXT / 2 * rng.uniform(0.9, 1.1))
         shift = rng.uniform(-0.06, 0.06, 2) * 2 * radius
         centre = (int(big / 2 + shift[0]), int(big / 2 + shift[1]))
         if rng.random() < 0.5:  # neighbours in the row, touching or a little apart
