@@ -25,11 +25,15 @@ import numpy as np
 
 from pix2pockets.pipeline.photo import clean_detections
 from pix2pockets.pipeline.result import SURE_NUMBER_CHANCE
-from pix2pockets.vision.ball_numbers import N_NUMBERS, BallNumberReader, assign_numbers, default_number_reader_path
+from pix2pockets.vision.detect.onnx_detector import OnnxDetector
+from pix2pockets.vision.detect.postprocess import box_iou
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.onnx_detector import OnnxDetector
-from pix2pockets.vision.postprocess import box_iou
-from pix2pockets.vision.yolo_data import split_dir
+from pix2pockets.vision.metrics.yolo_data import split_dir
+from pix2pockets.vision.stages.ball_numbers import (
+    N_NUMBERS,
+    BallNumberReader,
+    assign_numbers,
+)
 
 
 def score_split(root: str, split: str, reader: BallNumberReader, detector: OnnxDetector, limit: int | None) -> dict:
@@ -95,7 +99,7 @@ def main() -> None:
     ap.add_argument("--data", action="append", required=True, help="rendered dataset (repeatable)")
     ap.add_argument("--split", default="test")
     ap.add_argument("--limit", type=int, default=None, help="first N images per dataset")
-    ap.add_argument("--reader", default=str(default_number_reader_path()), help="ball-number reader ONNX")
+    ap.add_argument("--reader", default=str(BallNumberReader.default_path()), help="ball-number reader ONNX")
     ap.add_argument("--json", default=None)
     args = ap.parse_args()
 

@@ -4,7 +4,7 @@ reader + diamond refiner + decoding + post-processing per image, on synthetic re
 
 Usage:
     PYTHONPATH=src python benchmarks/detector.py [--model PATH] [--classifier PATH|none]
-        [--dot-refiner PATH|none] [--ball-refiner PATH|none] [--numbers PATH|none] [--threads 1] [--repeats 20]
+        [--diamond-refiner PATH|none] [--ball-refiner PATH|none] [--numbers PATH|none] [--threads 1] [--repeats 20]
         [--json OUT.json]
 """
 
@@ -20,16 +20,16 @@ from pathlib import Path
 import numpy as np
 
 from pix2pockets.synth.renderer import render
-from pix2pockets.vision.onnx_detector import (
+from pix2pockets.vision.detect.onnx_detector import (
     OnnxDetector,
     OnnxDetectorConfig,
-    ball_refiner_from_option,
-    classifier_from_option,
     default_model_path,
-    dot_refiner_from_option,
-    number_reader_from_option,
 )
-from pix2pockets.vision.postprocess import postprocess
+from pix2pockets.vision.detect.postprocess import postprocess
+from pix2pockets.vision.stages.ball_classifier import BallClassifier
+from pix2pockets.vision.stages.ball_numbers import BallNumberReader
+from pix2pockets.vision.stages.ball_refiner import BallRefiner
+from pix2pockets.vision.stages.diamond_refiner import DiamondRefiner
 
 SIZES = ((640, 360), (640, 480), (640, 640), (1280, 720), (1920, 1080))
 
@@ -57,17 +57,17 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--model", default=str(default_model_path()))
     parser.add_argument("--classifier", default=None, help="ball classifier ONNX, 'none' (default: bundled)")
-    parser.add_argument("--dot-refiner", default=None, help="diamond refiner ONNX, 'none' (default: bundled)")
+    parser.add_argument("--diamond-refiner", default=None, help="diamond refiner ONNX, 'none' (default: bundled)")
     parser.add_argument("--ball-refiner", default=None, help="ball refiner ONNX, 'none' (default: bundled)")
     parser.add_argument("--numbers", default=None, help="ball-number reader ONNX, 'none' (default: bundled)")
     parser.add_argument("--threads", type=int, default=1)
     parser.add_argument("--repeats", type=int, default=20)
     parser.add_argument("--json", default=None)
     args = parser.parse_args()
-    classifier = classifier_from_option(args.classifier, args.threads)
-    refiner = dot_refiner_from_option(args.dot_refiner, args.threads)
-    balls = ball_refiner_from_option(args.ball_refiner, args.threads)
-    numbers = number_reader_from_option(args.numbers, args.threads)
+    classifier = BallClassifier.from_option(args.classifier, args.threads)
+    refiner = DiamondRefiner.from_option(args.diamond_refiner, args.threads)
+    balls = BallRefiner.from_option(args.ball_refiner, args.threads)
+    numbers = BallNumberReader.from_option(args.numbers, args.threads)
     config = OnnxDetectorConfig(threads=args.threads)
     detector = OnnxDetector(args.model, config, classifier, refiner, balls, numbers)
     rows = [measure(detector, s, args.repeats) for s in SIZES]
@@ -84,7 +84,7 @@ def main() -> None:
     for r in rows:
         print(f"{'x'.join(map(str, r['image_px'])):>10} {r['median_ms']:>10} {r['p90_ms']:>8} {r['min_ms']:>8}")
     if args.json:
-        out = {"model": args.model, "classifier": clf, "dot_refiner": ref, "ball_refiner": ball_ref}
+        out = {"model": args.model, "classifier": clf, "diamond_refiner": ref, "ball_refiner": ball_ref}
         out["number_reader"] = reader
         out["threads"] = args.threads
         out["machine"] = platform.machine()

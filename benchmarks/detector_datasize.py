@@ -18,8 +18,8 @@ import json
 import math
 from pathlib import Path
 
-from pix2pockets.vision.evaluation import EvalOptions, evaluate_detector
-from pix2pockets.vision.onnx_detector import OnnxDetector, OnnxDetectorConfig
+from pix2pockets.vision.detect.onnx_detector import OnnxDetector, OnnxDetectorConfig
+from pix2pockets.vision.metrics.evaluation import EvalOptions, evaluate_detector
 from pix2pockets.vision.train.trainer import TrainConfig, train
 
 

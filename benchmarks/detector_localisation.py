@@ -19,11 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
-from pix2pockets.vision.classes import BALL_IDS, DOT_ID
+from pix2pockets.vision.classes import BALL_IDS, DIAMOND_ID
+from pix2pockets.vision.detect.onnx_detector import OnnxDetector, OnnxDetectorConfig, default_model_path
+from pix2pockets.vision.detect.postprocess import box_iou
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.onnx_detector import OnnxDetector, OnnxDetectorConfig, default_model_path
-from pix2pockets.vision.postprocess import box_iou
-from pix2pockets.vision.yolo_data import dataset_class_map, load_split
+from pix2pockets.vision.metrics.yolo_data import dataset_class_map, load_split
 
 
 def _match(gt: np.ndarray, pred: np.ndarray) -> list[tuple[float, float]]:
@@ -73,11 +73,11 @@ def main() -> None:
         image = read_image_rgb(item.image_path)
         cls = np.array([cmap.get(int(c), -1) for c in item.class_id])
         raw = det.detect(image)
-        dots = raw.boxes[(raw.class_id == DOT_ID) & (raw.confidence >= args.conf)]
+        diamonds = raw.boxes[(raw.class_id == DIAMOND_ID) & (raw.confidence >= args.conf)]
         balls = det.detect_balls(image)
         ball_boxes = balls.boxes[balls.confidence >= args.conf]
         for kind, gt, pred in (
-            ("dot", item.boxes[cls == DOT_ID], dots),
+            ("dot", item.boxes[cls == DIAMOND_ID], diamonds),
             ("ball", item.boxes[np.isin(cls, BALL_IDS)], ball_boxes),
         ):
             counts[kind] += len(gt)

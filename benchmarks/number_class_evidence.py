@@ -4,7 +4,7 @@ The ball classifier's four ball chances (cue, black, solid, stripe) are multipli
 over each class's numbers, raised to ``--power`` (0 leaves them as shipped), and rescaled to the classifier's
 total ball chance; then ``pix2pockets evaluate detector`` runs as usual. Eighteenth session:
 ``docs/benchmarks-detector.md``. Since the nineteenth session the detector also weighs the classes across the
-table by number (``vision/number_posterior.py``); add ``-- --numbers none`` to repeat the eighteenth session's
+table by number (``vision/stages/number_posterior.py``); add ``-- --numbers none`` to repeat the eighteenth session's
 runs.
 
 Usage:
@@ -21,7 +21,7 @@ import numpy as np
 
 from pix2pockets.cli.main import main as cli_main
 from pix2pockets.vision import ball_classifier
-from pix2pockets.vision.ball_numbers import NUMBERS_OF_CLASS, BallNumberReader
+from pix2pockets.vision.stages.ball_numbers import NUMBERS_OF_CLASS, BallNumberReader
 
 
 def class_chances(number_probs: np.ndarray) -> np.ndarray:

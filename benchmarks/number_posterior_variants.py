@@ -1,4 +1,4 @@
-"""Score the detector with variants of the table-wide class scores (``vision/number_posterior.py``).
+"""Score the detector with variants of the table-wide class scores (``vision/stages/number_posterior.py``).
 
 The shipped scoring spreads each candidate's own class scores over its class's numbers by the ball-number
 reader's chances within the class and weighs every number across the table (at most once). The variants:
@@ -23,9 +23,9 @@ import numpy as np
 
 from pix2pockets.cli.main import main as cli_main
 from pix2pockets.vision import ball_classifier, number_posterior
-from pix2pockets.vision.ball_numbers import N_NUMBERS, NUMBERS_OF_CLASS
 from pix2pockets.vision.classes import ONE_PER_TABLE
-from pix2pockets.vision.postprocess import at_most_one_posterior
+from pix2pockets.vision.detect.postprocess import at_most_one_posterior
+from pix2pockets.vision.stages.ball_numbers import N_NUMBERS, NUMBERS_OF_CLASS
 
 
 def variant_scores(args: argparse.Namespace):

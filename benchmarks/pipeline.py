@@ -19,11 +19,10 @@ import time
 from pathlib import Path
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # for tests.pipeline.standins
 
 import cv2
 
-from pix2pockets.cli.suggest_cmd import example_photo_path
+from pix2pockets.data.examples import example_photo_path
 from pix2pockets.pipeline import photo
 from pix2pockets.pipeline.draw import render_result
 
@@ -35,7 +34,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--json", help="write results here")
     args = parser.parse_args(argv)
 
-    from tests.pipeline.standins import ExampleLabelsDetector, NearestPocketPlanner
+    from pix2pockets.testing import ExampleLabelsDetector, NearestPocketPlanner
 
     notes = []
     t = time.perf_counter()

@@ -2,7 +2,7 @@
 
 For each of ``--sets`` random layouts (16 balls) the three views' detections are made analytically
 (exact projected sphere boxes and diamond centres from :class:`PinholeCamera`, plus Gaussian pixel noise),
-the table is fitted from the dots alone and each ball is located. Reported: mean ball error against the
+the table is fitted from the diamonds alone and each ball is located. Reported: mean ball error against the
 ground truth per view and method [cm, 9-ft table], and view to view (45 and front against top, as in the
 paper, which found 0.4 cm).
 
@@ -11,8 +11,8 @@ With ``--rendered N`` the views are instead N multi-view sets from the synthetic
 camera per set), and the detections are the renders' exact labels (visible ball boxes, diamond boxes;
 with ``--onnx`` the bundled detector's instead). The rail-cap height of the renders varies (3-12 mm
 above the cushion nose); ``--height`` says where the fit takes it from: ``assumed``
-(:func:`~pix2pockets.vision.table_fit.diamond_height`), ``image`` (measured from the cushion noses in
-the render, :mod:`pix2pockets.vision.rail_height`, as the pipeline does) or ``known`` (the render's true
+(:func:`~pix2pockets.vision.table.fit.diamond_height`), ``image`` (measured from the cushion noses in
+the render, :mod:`pix2pockets.vision.table.rail_height`, as the pipeline does) or ``known`` (the render's true
 height).
 
 Usage:
@@ -32,9 +32,12 @@ from scipy.optimize import linear_sum_assignment
 
 from pix2pockets.geometry import TableSpec, table_preset
 from pix2pockets.state import random_layout
-from pix2pockets.vision.analytic import analytic_detections, detections_from_synth_labels, standard_views
-from pix2pockets.vision.ball_location import LocateMethod, locate_balls
-from pix2pockets.vision.table_fit import TableFitError, fit_table
+from pix2pockets.vision.detect.analytic import analytic_detections, detections_from_synth_labels, standard_views
+from pix2pockets.vision.locate.balls import LocateMethod, locate_balls
+from pix2pockets.vision.stages.ball_classifier import BallClassifier
+from pix2pockets.vision.stages.ball_refiner import BallRefiner
+from pix2pockets.vision.stages.diamond_refiner import DiamondRefiner
+from pix2pockets.vision.table.fit import TableFitError, fit_table
 
 METHODS = (LocateMethod.SPHERE, LocateMethod.CONTACT, LocateMethod.LINEAR)
 
@@ -64,7 +67,7 @@ def run(sets: int, noise: float, seed: int) -> dict:
         layout = random_layout(rng, list(range(16)), spec)
         per_view: dict[str, dict[str, np.ndarray]] = {}
         for name, cam in views.items():
-            det = analytic_detections(cam, layout, rng, box_noise_px=noise, dot_noise_px=noise)
+            det = analytic_detections(cam, layout, rng, box_noise_px=noise, diamond_noise_px=noise)
             try:
                 fit = fit_table(det, cam.image_size, spec)
             except TableFitError:
@@ -91,31 +94,28 @@ def run_rendered(
     size: tuple[int, int],
     onnx: bool = False,
     model: str | None = None,
-    dot_refiner: str | None = None,
+    diamond_refiner: str | None = None,
     ball_refiner: str | None = None,
 ) -> dict:
     from pix2pockets.synth.renderer import render_views
-    from pix2pockets.vision.rail_height import refine_fit_height
+    from pix2pockets.vision.table.rail_height import refine_fit_height
 
     detector = None
     if onnx:
         from pix2pockets.pipeline.photo import clean_detections, default_detector
-        from pix2pockets.vision.onnx_detector import (
+        from pix2pockets.vision.detect.onnx_detector import (
             OnnxDetector,
-            ball_refiner_from_option,
-            default_classifier,
             default_model_path,
-            dot_refiner_from_option,
         )
 
-        if model is None and dot_refiner is None and ball_refiner is None:
+        if model is None and diamond_refiner is None and ball_refiner is None:
             detector = default_detector()
         else:
             detector = OnnxDetector(
                 model or default_model_path(),
-                classifier=default_classifier(),
-                dot_refiner=dot_refiner_from_option(dot_refiner),
-                ball_refiner=ball_refiner_from_option(ball_refiner),
+                classifier=BallClassifier.from_option(None),
+                diamond_refiner=DiamondRefiner.from_option(diamond_refiner),
+                ball_refiner=BallRefiner.from_option(ball_refiner),
             )
 
     views = ("top", "high", "front")
@@ -231,7 +231,7 @@ def main(argv: list[str] | None = None) -> int:
     )
     parser.add_argument("--model", default=None, help="rendered, --onnx: this detector ONNX instead of the bundled one")
     parser.add_argument(
-        "--dot-refiner", default=None, help="rendered, --onnx: this diamond refiner ONNX ('none': without one)"
+        "--diamond-refiner", default=None, help="rendered, --onnx: this diamond refiner ONNX ('none': without one)"
     )
     parser.add_argument(
         "--ball-refiner", default=None, help="rendered, --onnx: this ball refiner ONNX ('none': without one)"
@@ -242,7 +242,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.rendered:
         size = tuple(int(v) for v in args.size.lower().split("x"))
         height = "known" if args.known_height else args.height
-        stages = args.model, args.dot_refiner, args.ball_refiner
+        stages = args.model, args.diamond_refiner, args.ball_refiner
         res = run_rendered(args.rendered, args.seed, height, size, args.onnx, *stages)
         print(
             f"projection error, {res['sets']} rendered sets x 3 views ({res['detections']}, "

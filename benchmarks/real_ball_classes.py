@@ -28,10 +28,10 @@ import numpy as np
 from pix2pockets.cli.detector_options import add_detector_options, detector_from_args
 from pix2pockets.pipeline.photo import clean_detections
 from pix2pockets.vision.classes import BALL_IDS, CLASS_NAMES
-from pix2pockets.vision.detections import Detections
+from pix2pockets.vision.detect.detections import Detections
+from pix2pockets.vision.detect.onnx_detector import OnnxDetectorConfig
+from pix2pockets.vision.detect.postprocess import box_iou, postprocess
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.onnx_detector import OnnxDetectorConfig
-from pix2pockets.vision.postprocess import box_iou, postprocess
 
 HERE = Path(__file__).resolve().parent
 DEFAULT_DATA = HERE.parent.parent / "shared" / "data" / "real-snooker-vision"

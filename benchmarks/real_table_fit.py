@@ -22,11 +22,11 @@ from pathlib import Path
 import numpy as np
 
 from pix2pockets.pipeline.photo import clean_detections
+from pix2pockets.vision.detect.onnx_detector import OnnxDetector
+from pix2pockets.vision.detect.postprocess import box_iou
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.onnx_detector import OnnxDetector
-from pix2pockets.vision.postprocess import box_iou
-from pix2pockets.vision.table_fit import TableFit, TableFitError, fit_table
-from pix2pockets.vision.yolo_data import read_yolo_labels
+from pix2pockets.vision.metrics.yolo_data import read_yolo_labels
+from pix2pockets.vision.table.fit import TableFit, TableFitError, fit_table
 
 HERE = Path(__file__).resolve().parent
 DEFAULT_DATA = HERE.parent.parent / "shared" / "data" / "real-snooker-vision"

@@ -4,7 +4,7 @@ Each render (:func:`pix2pockets.synth.renderer.render`, random camera kind, occl
 gives its labelled diamonds and visible ball boxes to :func:`fit_table` and :func:`locate_balls`.
 Reported per camera kind: fits, clear failures (``TableFitError``, with reasons), mean corner error [px]
 (corners up to half an image outside the frame) and mean ball error [cm] (scaled to a 9-ft table), with the
-diamond height assumed and measured from the render (:mod:`pix2pockets.vision.rail_height`).
+diamond height assumed and measured from the render (:mod:`pix2pockets.vision.table.rail_height`).
 
 With ``--stretch-to WxH`` each render (and its labels) is resized to WxH before the fit, as an export that
 squashes every photo to one size does (the paper's Roboflow dataset: 640x640); the pixel aspect the fit
@@ -28,11 +28,11 @@ import numpy as np
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 from pix2pockets.geometry import TableSpec, table_preset
-from pix2pockets.vision.analytic import detections_from_synth_labels
-from pix2pockets.vision.ball_location import locate_balls
-from pix2pockets.vision.detections import Detections
-from pix2pockets.vision.rail_height import refine_fit_height
-from pix2pockets.vision.table_fit import TableFitError, fit_table
+from pix2pockets.vision.detect.analytic import detections_from_synth_labels
+from pix2pockets.vision.detect.detections import Detections
+from pix2pockets.vision.locate.balls import locate_balls
+from pix2pockets.vision.table.fit import TableFitError, fit_table
+from pix2pockets.vision.table.rail_height import refine_fit_height
 
 
 def _scaled(det: Detections, scale: np.ndarray) -> Detections:
@@ -102,7 +102,7 @@ def main(argv: list[str] | None = None) -> int:
         try:
             fit = fit_table(det, out_size, spec)
         except TableFitError as err:
-            s["failures"].append(f"{(args.seed, k)}: {err} ({int(det.is_dot.sum())} dots)")
+            s["failures"].append(f"{(args.seed, k)}: {err} ({int(det.is_diamond.sum())} diamonds)")
             continue
         s["fits"] += 1
         assumed = fit

@@ -23,15 +23,15 @@ import numpy as np
 from pix2pockets.synth import raycast as rc
 from pix2pockets.synth.renderer import scene_of
 from pix2pockets.vision.classes import BALL_IDS, CLASS_NAMES
-from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.onnx_detector import (
+from pix2pockets.vision.detect.onnx_detector import (
     OnnxDetector,
     OnnxDetectorConfig,
-    classifier_from_option,
     default_model_path,
 )
-from pix2pockets.vision.postprocess import box_iou
-from pix2pockets.vision.yolo_data import split_dir
+from pix2pockets.vision.detect.postprocess import box_iou
+from pix2pockets.vision.image_io import read_image_rgb
+from pix2pockets.vision.metrics.yolo_data import split_dir
+from pix2pockets.vision.stages.ball_classifier import BallClassifier
 
 BUCKETS = (0.0, 0.2, 0.35, 0.5, 1.01)
 DISC = np.random.default_rng(0).uniform(-1, 1, (6000, 2))
@@ -59,7 +59,7 @@ def main() -> None:
     ap.add_argument("--json", default=None)
     args = ap.parse_args()
 
-    det = OnnxDetector(args.model, OnnxDetectorConfig(threads=1), classifier_from_option(args.classifier))
+    det = OnnxDetector(args.model, OnnxDetectorConfig(threads=1), BallClassifier.from_option(args.classifier))
     folder = split_dir(args.data, args.split)
     stripes: list[tuple[float, int]] = []
     cues: list[int] = []

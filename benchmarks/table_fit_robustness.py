@@ -1,7 +1,7 @@
-"""Table fitting under dot noise, hidden dots and false-positive dots (analytic views).
+"""Table fitting under diamond noise, hidden diamonds and false-positive diamonds (analytic views).
 
 For each setting, ``--trials`` random draws per view (top, 45, front): Gaussian noise on the 18 projected
-diamond centres, a random fraction of them hidden, and some false-positive dots: anywhere inside the image
+diamond centres, a random fraction of them hidden, and some false-positive diamonds: anywhere inside the image
 (``--false-positives random``, default) or where a real detector misfires, near the rails
 (``--false-positives rails``: pocket jaws, points on the cushion nose lines and on the diamond line between
 the sights). Reports clear failures (``TableFitError``), wrong fits (a corner more than 10 px off) and fit
@@ -21,12 +21,12 @@ import time
 import numpy as np
 
 from pix2pockets.geometry import TableSpec
-from pix2pockets.vision.analytic import standard_views
-from pix2pockets.vision.table_fit import TableFitError, diamond_height, fit_table
+from pix2pockets.vision.detect.analytic import standard_views
+from pix2pockets.vision.table.fit import TableFitError, diamond_height, fit_table
 
 
 def rail_false_positives(spec: TableSpec, cam, rng: np.random.Generator, n: int) -> np.ndarray:
-    """``n`` false dots [px] near the rails: pocket jaws, cushion nose lines, the diamond line off the sights."""
+    """``n`` false diamonds [px] near the rails: pocket jaws, cushion nose lines, the diamond line off the sights."""
     L, W = spec.length, spec.width
     jaws = spec.jaw_segments[:, 0]
     out = []
@@ -40,7 +40,7 @@ def rail_false_positives(spec: TableSpec, cam, rng: np.random.Generator, n: int)
         t = rng.uniform(0.05, 0.95)
         side = rng.integers(4)
         xy = [(t * L, -off), (L + off, t * W), (t * L, W + off), (-off, t * W)][side]
-        if kind == 2:  # keep clear of the sights (they are the real dots)
+        if kind == 2:  # keep clear of the sights (they are the real diamonds)
             sights = spec.diamonds
             if np.min(np.linalg.norm(sights - np.array(xy), axis=1)) < 0.06:
                 xy = (xy[0] + 0.08, xy[1]) if side in (0, 2) else (xy[0], xy[1] + 0.08)

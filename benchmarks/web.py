@@ -20,7 +20,6 @@ import time
 from pathlib import Path
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
-sys.path.insert(0, str(Path(__file__).resolve().parents[1]))  # for tests.*
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -31,11 +30,10 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
 
     from fastapi.testclient import TestClient
-    from tests.pipeline.standins import NearestPocketPlanner
-    from tests.web.conftest import LabelsDetector
 
-    from pix2pockets.cli.suggest_cmd import example_photo_path
+    from pix2pockets.data.examples import example_photo_path
     from pix2pockets.pipeline import photo, planning
+    from pix2pockets.testing import LabelsDetector, NearestPocketPlanner
     from pix2pockets.web.app import create_app
 
     path = Path(example_photo_path())

@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from pix2pockets.cli.output import check_output
+from pix2pockets.files import check_output
 from pix2pockets.vision.train.weight_average import average_onnx_weights
 
 

@@ -16,19 +16,19 @@ from pathlib import Path
 
 import cv2
 
-from pix2pockets.vision.classes import DOT_ID, MIN_DOT_BOX_PX
+from pix2pockets.vision.classes import DIAMOND_ID, MIN_DIAMOND_BOX_PX
 
 
 def stretched_label_rows(text: str, size: tuple[int, int]) -> str:
-    """YOLO label rows with diamond boxes widened to ``MIN_DOT_BOX_PX`` in an image of ``size`` (w, h)."""
+    """YOLO label rows with diamond boxes widened to ``MIN_DIAMOND_BOX_PX`` in an image of ``size`` (w, h)."""
     rows = []
     for line in text.splitlines():
         if not line.strip():
             continue
         cls, cx, cy, bw, bh = line.split()
         w, h = float(bw), float(bh)
-        if int(cls) == DOT_ID:
-            w, h = max(w, MIN_DOT_BOX_PX / size[0]), max(h, MIN_DOT_BOX_PX / size[1])
+        if int(cls) == DIAMOND_ID:
+            w, h = max(w, MIN_DIAMOND_BOX_PX / size[0]), max(h, MIN_DIAMOND_BOX_PX / size[1])
         rows.append(f"{cls} {cx} {cy} {w:.6f} {h:.6f}")
     return "\n".join(rows) + "\n"
 

@@ -129,11 +129,8 @@ def screenshot(app, out: str, binary: str, port: int, width: int, timeout: float
 
 
 def standin_app():
-    sys.path.insert(0, str(ROOT))
-    from tests.pipeline.standins import NearestPocketPlanner
-    from tests.web.conftest import LabelsDetector
-
-    from pix2pockets.cli.suggest_cmd import example_photo_path
+    from pix2pockets.data.examples import example_photo_path
+    from pix2pockets.testing import LabelsDetector, NearestPocketPlanner
     from pix2pockets.web.app import create_app
 
     photo = Path(example_photo_path())

@@ -44,10 +44,10 @@ def test_evaluate_class_aware_post_processing_is_recorded(toy, tmp_path):
 
 
 def test_evaluate_with_and_without_the_number_reader(toy, tmp_path):
-    from pix2pockets.vision.ball_numbers import default_number_reader_path
-    from pix2pockets.vision.onnx_detector import default_model_path
+    from pix2pockets.vision.detect.onnx_detector import default_model_path
+    from pix2pockets.vision.stages.ball_numbers import BallNumberReader
 
-    if not (default_model_path().exists() and default_number_reader_path().exists()):
+    if not (default_model_path().exists() and BallNumberReader.default_path().exists()):
         pytest.skip("needs the committed detector and ball-number reader")
     models = {}
     for option in ([], ["--numbers", "none"]):
@@ -121,7 +121,7 @@ def test_train_detector_tiny_run_writes_onnx_and_resumes(toy, tmp_path):
 def test_train_detector_continues_from_the_shipped_onnx(toy, tmp_path):
     pytest.importorskip("torch")
     pytest.importorskip("onnx", reason="reading ONNX weights needs the onnx package (train extra)")
-    from pix2pockets.vision.onnx_detector import default_model_path
+    from pix2pockets.vision.detect.onnx_detector import default_model_path
 
     out = tmp_path / "run"
     args = ["train-detector", "--data", str(toy), "--out", str(out), "--epochs", "1", "--batch", "2", "--crop", "64"]
@@ -162,7 +162,7 @@ def test_train_detector_init_must_exist(toy, tmp_path, capsys):
 
 def test_export_only_int8_quantises_an_existing_onnx(toy, tmp_path, capsys):
     pytest.importorskip("onnx", reason="quantisation needs the onnx package (train extra)")
-    from pix2pockets.vision.onnx_detector import default_model_path
+    from pix2pockets.vision.detect.onnx_detector import default_model_path
 
     out = tmp_path / "run"
     out.mkdir()
@@ -179,7 +179,7 @@ def test_export_only_int8_quantises_an_existing_onnx(toy, tmp_path, capsys):
 
 def test_export_only_init_rewrites_onnx_weights_with_the_current_graph(toy, tmp_path, capsys):
     pytest.importorskip("onnx", reason="reading ONNX weights needs the onnx package (train extra)")
-    from pix2pockets.vision.onnx_detector import default_model_path
+    from pix2pockets.vision.detect.onnx_detector import default_model_path
 
     out = tmp_path / "run"
     args = ["train-detector", "--out", str(out), "--export-only", "--data", str(toy), "--init"]
@@ -258,20 +258,31 @@ def test_train_ball_classifier_head_copies_and_jitter(toy, tmp_path, capsys):
     assert "low_res" in capsys.readouterr().err and not (tmp_path / "c").exists()
 
 
-def test_train_dot_refiner_tiny_run_and_detect_with_it(toy, tmp_path, capsys):
+def test_train_diamond_refiner_tiny_run_and_detect_with_it(toy, tmp_path, capsys):
     pytest.importorskip("torch")
     pytest.importorskip("onnx", reason="ONNX export needs the onnx package (train extra)")
     out = tmp_path / "ref"
-    args = ["train-dot-refiner", "--data", str(toy), "--epochs", "1", "--copies", "1", "--widths", "4,8,8", "--quiet"]
+    args = [
+        "train-diamond-refiner",
+        "--data",
+        str(toy),
+        "--epochs",
+        "1",
+        "--copies",
+        "1",
+        "--widths",
+        "4,8,8",
+        "--quiet",
+    ]
     assert main([*args, "--out", str(out)]) == 0
     metrics = json.loads((out / "metrics.json").read_text())
     assert metrics["train_crops"] > 0 and metrics["test"]["crops"] > 0
     image = str(next((toy / "test" / "images").iterdir()))
-    ref = str(out / "dot-refiner.onnx")
-    assert main(["detect", image, "--dot-refiner", ref, "--json", str(tmp_path / "d.json")]) == 0
-    assert json.loads((tmp_path / "d.json").read_text())["dot_refiner"] == ref
-    assert main(["detect", image, "--dot-refiner", "none", "--json", str(tmp_path / "e.json")]) == 0
-    assert json.loads((tmp_path / "e.json").read_text())["dot_refiner"] is None
+    ref = str(out / "diamond-refiner.onnx")
+    assert main(["detect", image, "--diamond-refiner", ref, "--json", str(tmp_path / "d.json")]) == 0
+    assert json.loads((tmp_path / "d.json").read_text())["diamond_refiner"] == ref
+    assert main(["detect", image, "--diamond-refiner", "none", "--json", str(tmp_path / "e.json")]) == 0
+    assert json.loads((tmp_path / "e.json").read_text())["diamond_refiner"] is None
     assert main([*args, "--out", str(tmp_path / "bad"), "--centre-jitter", "-1"]) == 2
     assert "centre_jitter" in capsys.readouterr().err and not (tmp_path / "bad").exists()
 
@@ -309,9 +320,9 @@ def test_detect_with_a_missing_number_reader_is_a_clean_error(toy, tmp_path, cap
     assert not (tmp_path / "d.json").exists()
 
 
-def test_detect_with_a_missing_dot_refiner_is_a_clean_error(toy, tmp_path, capsys):
+def test_detect_with_a_missing_diamond_refiner_is_a_clean_error(toy, tmp_path, capsys):
     image = str(next((toy / "test" / "images").iterdir()))
-    rc = main(["detect", image, "--dot-refiner", str(tmp_path / "no.onnx"), "--json", str(tmp_path / "d.json")])
+    rc = main(["detect", image, "--diamond-refiner", str(tmp_path / "no.onnx"), "--json", str(tmp_path / "d.json")])
     assert rc != 0 and "diamond refiner model not found" in capsys.readouterr().err
     assert not (tmp_path / "d.json").exists()
 
@@ -353,7 +364,7 @@ def test_train_detector_records_the_stretch_settings(toy, tmp_path):
 def test_train_ball_numbers_tiny_run_on_renders(tmp_path, capsys):
     pytest.importorskip("torch")
     pytest.importorskip("onnx", reason="ONNX export needs the onnx package (train extra)")
-    from pix2pockets.vision.ball_numbers import N_NUMBERS, BallNumberReader
+    from pix2pockets.vision.stages.ball_numbers import N_NUMBERS, BallNumberReader
 
     data = tmp_path / "renders"
     assert main(["synth", "--n", "2", "--out", str(data), "--size", "320x180", "--split", "0.5,0,0.5", "--seed", "3",

@@ -3,8 +3,7 @@ import pytest
 from pix2pockets.cli import serve_cmd
 from pix2pockets.cli.main import main
 from pix2pockets.pipeline import photo, planning
-
-from ..pipeline.standins import NearestPocketPlanner
+from pix2pockets.testing import NearestPocketPlanner
 
 
 def test_help(capsys):

@@ -7,8 +7,7 @@ import pytest
 
 from pix2pockets.cli.main import main
 from pix2pockets.pipeline import photo
-
-from ..pipeline.standins import LabelDetector, NearestPocketPlanner, blank_image, camera, example_layout
+from pix2pockets.testing import LabelDetector, NearestPocketPlanner, blank_image, camera, example_layout
 
 
 @pytest.fixture
@@ -82,7 +81,7 @@ def test_bad_images_fail_cleanly(tmp_path, standins, capsys, make, match):
 
 @pytest.mark.parametrize(
     ("detector_kwargs", "match"),
-    [({"drop": (0,)}, "no cue ball"), ({"dots": False}, "too few table points")],
+    [({"drop": (0,)}, "no cue ball"), ({"diamonds": False}, "too few table points")],
 )
 def test_pipeline_errors_fail_cleanly(tmp_path, monkeypatch, photo_file, capsys, detector_kwargs, match):
     det = LabelDetector(camera("45"), example_layout(), **detector_kwargs)

@@ -6,9 +6,7 @@ from pix2pockets.pipeline.draw import render_result
 from pix2pockets.pipeline.photo import load_image, suggest
 from pix2pockets.pipeline.result import power_level
 from pix2pockets.state import Shot
-from pix2pockets.vision.table_fit import TableFitError
-
-from .standins import (
+from pix2pockets.testing import (
     SPEC,
     Candidate,
     LabelDetector,
@@ -18,6 +16,7 @@ from .standins import (
     camera,
     example_layout,
 )
+from pix2pockets.vision.table.fit import TableFitError
 
 
 @pytest.mark.parametrize("view", ["top", "45", "front"])
@@ -72,7 +71,7 @@ def test_no_shot_gives_a_safety_not_an_error():
     ("kwargs", "error", "match"),
     [
         ({"drop": (0,)}, ValueError, "no cue ball"),
-        ({"dots": False}, TableFitError, "too few table points"),
+        ({"diamonds": False}, TableFitError, "too few table points"),
     ],
 )
 def test_bad_photos(kwargs, error, match):
@@ -111,7 +110,7 @@ def test_power_levels():
 
 def test_clean_detections_keeps_a_ball_that_lost_the_cue():
     from pix2pockets.pipeline.photo import clean_detections
-    from pix2pockets.vision.detections import Detections
+    from pix2pockets.vision.detect.detections import Detections
 
     boxes = np.array([[0, 0, 10, 10], [0.5, 0, 10.5, 10], [100, 0, 110, 10], [100.5, 0, 110.5, 10.0]])
     raw = Detections(boxes, np.array([0.36, 0.05, 0.45, 0.18]), np.array([0, 3, 0, 3]))
@@ -121,7 +120,7 @@ def test_clean_detections_keeps_a_ball_that_lost_the_cue():
 
 def test_clean_detections_keeps_a_sure_ball_whose_class_scores_disagree():
     from pix2pockets.pipeline.photo import SURE_BALL_SCORE, clean_detections
-    from pix2pockets.vision.detections import Detections
+    from pix2pockets.vision.detect.detections import Detections
 
     boxes = np.array([[0, 0, 10, 10], [0, 0, 10, 10], [100, 0, 110, 10], [200, 0, 210, 10.0]])
     faint = [0.1, 0.08, 0.1, 0.1]  # e.g. an 8 the classifier is sure of and the black head is not

@@ -7,16 +7,16 @@ import cv2
 import numpy as np
 import pytest
 
-from pix2pockets.cli.suggest_cmd import EXAMPLE_LABELS, example_photo_path
+from pix2pockets.data.examples import example_labels_path, example_photo_path
 from pix2pockets.geometry import table_preset
 from pix2pockets.pipeline.photo import load_image, suggest
 from pix2pockets.state import Ball, TableLayout
-from pix2pockets.vision.analytic import detections_from_synth_labels
-from pix2pockets.vision.ball_location import locate_balls
-from pix2pockets.vision.detections import Detections
-from pix2pockets.vision.table_fit import fit_table
+from pix2pockets.vision.detect.analytic import detections_from_synth_labels
+from pix2pockets.vision.detect.detections import Detections
+from pix2pockets.vision.locate.balls import locate_balls
+from pix2pockets.vision.table.fit import fit_table
 
-LABELS = json.loads((Path(example_photo_path()).parent / EXAMPLE_LABELS).read_text())
+LABELS = json.loads(Path(example_labels_path()).read_text())
 SPEC = table_preset(LABELS["table"]["name"])
 
 

@@ -30,7 +30,7 @@ def test_same_rules_give_the_same_dataset(source, tmp_path):
 
 def test_new_rules_change_the_labels_not_the_source(source, tmp_path, monkeypatch):
     before = _files(source, "labels")
-    monkeypatch.setattr(labels, "DOT_MIN_SIGNAL", 256)  # no diamond shows enough
+    monkeypatch.setattr(labels, "DIAMOND_MIN_SIGNAL", 256)  # no diamond shows enough
     relabel_dataset(source, tmp_path / "out")
     rows = [r for f in (tmp_path / "out").rglob("labels/*.txt") for r in f.read_text().splitlines()]
     assert rows and not [r for r in rows if r.startswith("4 ")]

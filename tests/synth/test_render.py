@@ -70,29 +70,31 @@ def test_ball_pixels_have_ball_colours():
 
 def test_diamonds_lie_on_rails(renders):
     for rend in renders.values():
-        for dot in rend.labels["diamonds"]:
-            if not dot["labelled"]:
+        for diamond in rend.labels["diamonds"]:
+            if not diamond["labelled"]:
                 continue
-            u, v = (int(c) for c in dot["px"])
+            u, v = (int(c) for c in diamond["px"])
             around = rend.ids[max(v - 1, 0) : v + 2, max(u - 1, 0) : u + 2]
-            on_rail = (around == rc.ID_DIAMOND0 + dot["index"]) | (around == rc.ID_CAP)
-            assert on_rail.any(), dot
-            assert not np.isin(around, [rc.ID_CLOTH, rc.ID_FLOOR, rc.ID_WALL]).all(), dot
-            x0, y0, x1, y1 = dot["box_px"]
-            assert x0 <= dot["px"][0] <= x1 and y0 <= dot["px"][1] <= y1
+            on_rail = (around == rc.ID_DIAMOND0 + diamond["index"]) | (around == rc.ID_CAP)
+            assert on_rail.any(), diamond
+            assert not np.isin(around, [rc.ID_CLOTH, rc.ID_FLOOR, rc.ID_WALL]).all(), diamond
+            x0, y0, x1, y1 = diamond["box_px"]
+            assert x0 <= diamond["px"][0] <= x1 and y0 <= diamond["px"][1] <= y1
 
 
 def test_diamonds_are_labelled_only_when_they_show_in_the_photo(renders, monkeypatch):
     signals, hidden = [], 0
     for rend in renders.values():
-        for dot in rend.labels["diamonds"]:
-            if "signal" not in dot:
+        for diamond in rend.labels["diamonds"]:
+            if "signal" not in diamond:
                 continue
-            signals.append(dot["signal"])
-            assert dot["labelled"] <= (dot["signal"] >= labels.DOT_MIN_SIGNAL)
-            hidden += dot["visible_fraction"] >= labels.DOT_MIN_VISIBLE and dot["signal"] < labels.DOT_MIN_SIGNAL
+            signals.append(diamond["signal"])
+            assert diamond["labelled"] <= (diamond["signal"] >= labels.DIAMOND_MIN_SIGNAL)
+            hidden += diamond["visible_fraction"] >= labels.DIAMOND_MIN_VISIBLE and (
+                diamond["signal"] < labels.DIAMOND_MIN_SIGNAL
+            )
     assert max(signals) > 50 and hidden >= 1  # plain sights show strongly; some are there but not seen
-    monkeypatch.setattr(labels, "DOT_MIN_SIGNAL", 256)
+    monkeypatch.setattr(labels, "DIAMOND_MIN_SIGNAL", 256)
     assert not any(d["labelled"] for d in render(SEEDS[0], SIZE).labels["diamonds"])
 
 

@@ -11,7 +11,7 @@ COLOURS = {0: (245, 245, 240), 1: (15, 15, 15), 2: (220, 40, 30), 3: (30, 60, 20
 
 
 def toy_image(rng: np.random.Generator, size: tuple[int, int] = (320, 192), n_balls: int = 6):
-    """A top-down toy table: rails with white dots, coloured balls. Returns image and (boxes, classes, contacts)."""
+    """A top-down toy table: rails with white diamonds, coloured balls. Returns image and (boxes, classes, contacts)."""
     w, h = size
     img = np.zeros((h, w, 3), np.uint8)
     img[:] = (90, 60, 30)

@@ -3,30 +3,11 @@
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
 import pytest
 
-from pix2pockets.cli.suggest_cmd import example_photo_path
-from pix2pockets.vision.classes import CLASS_NAMES, DOT_ID
-from pix2pockets.vision.detections import Detections
-
-
-@dataclass
-class LabelsDetector:
-    """Returns the labelled balls and diamonds of a synth render (its label dict), minus the classes in ``drop``."""
-
-    labels: dict
-    drop: tuple[str, ...] = ()
-
-    def detect(self, image_rgb: np.ndarray) -> Detections:
-        rows = [(b["class_id"], b["box_px"]) for b in self.labels["balls"] if b["labelled"]]
-        rows += [(DOT_ID, d["box_px"]) for d in self.labels["diamonds"] if d["labelled"]]
-        rows = [r for r in rows if CLASS_NAMES[r[0]] not in self.drop]
-        boxes = np.array([box for _, box in rows], dtype=float).reshape(-1, 4)
-        return Detections(boxes, np.ones(len(rows)), np.array([c for c, _ in rows], dtype=int))
+from pix2pockets.data.examples import example_photo_path
 
 
 @pytest.fixture(scope="session")

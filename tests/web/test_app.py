@@ -12,11 +12,9 @@ pytest.importorskip("python_multipart")
 from fastapi.testclient import TestClient
 
 from pix2pockets.pipeline import photo
+from pix2pockets.testing import LabelsDetector, NearestPocketPlanner
 from pix2pockets.vision.image_io import decode_image_rgb
 from pix2pockets.web.app import create_app
-
-from ..pipeline.standins import NearestPocketPlanner
-from .conftest import LabelsDetector
 
 
 def client_for(labels, drop=(), **kwargs) -> TestClient:
@@ -256,7 +254,7 @@ def test_unexpected_errors_outside_the_pipeline_answer_json(rendered, monkeypatc
 
 def test_bundled_model_and_planner_on_the_example(rendered):
     """The defaults end to end (skipped in builds without the detector model)."""
-    from pix2pockets.vision.onnx_detector import default_model_path
+    from pix2pockets.vision.detect.onnx_detector import default_model_path
 
     if not default_model_path().is_file():
         pytest.skip("no bundled detector model in this build")

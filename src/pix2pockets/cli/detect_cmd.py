@@ -7,7 +7,7 @@ import json
 from pathlib import Path
 
 from pix2pockets.cli.detector_options import add_detector_options, detector_from_args
-from pix2pockets.cli.output import check_output, write_atomic
+from pix2pockets.files import check_output, write_atomic
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -27,8 +27,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     import numpy as np
 
+    from pix2pockets.vision.detect.postprocess import postprocess
     from pix2pockets.vision.image_io import read_image_rgb
-    from pix2pockets.vision.postprocess import postprocess
 
     if not (args.json_out or args.draw):
         raise ValueError("nothing to write: give --json OUT.json, --draw OUT.png or both")
@@ -52,7 +52,7 @@ def run(args: argparse.Namespace) -> int:
         "size_px": [int(image.shape[1]), int(image.shape[0])],
         "model": str(detector.model_path),
         "classifier": str(detector.classifier.model_path) if detector.classifier else None,
-        "dot_refiner": str(detector.dot_refiner.model_path) if detector.dot_refiner else None,
+        "diamond_refiner": str(detector.diamond_refiner.model_path) if detector.diamond_refiner else None,
         "ball_refiner": str(detector.ball_refiner.model_path) if detector.ball_refiner else None,
         "number_reader": str(reader.model_path) if reader else None,
         "conf_threshold": args.conf,
@@ -62,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
     picture = None
     if args.draw:
         from pix2pockets.pipeline.draw import encode_picture
-        from pix2pockets.vision.draw import draw_detections
+        from pix2pockets.vision.detect.draw import draw_detections
 
         picture = encode_picture(draw_detections(image, post, args.conf, numbers), Path(args.draw).suffix)
     if args.json_out:

@@ -5,9 +5,14 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from pix2pockets.vision.stages.ball_classifier import BallClassifier
+from pix2pockets.vision.stages.ball_numbers import BallNumberReader
+from pix2pockets.vision.stages.ball_refiner import BallRefiner
+from pix2pockets.vision.stages.diamond_refiner import DiamondRefiner
+
 
 def add_model_options(parser: argparse.ArgumentParser) -> None:
-    """--model, --classifier, --dot-refiner, --ball-refiner and --numbers."""
+    """--model, --classifier, --diamond-refiner, --ball-refiner and --numbers."""
     parser.add_argument("--model", default=None, help="detector ONNX model (default: the bundled one)")
     parser.add_argument(
         "--classifier",
@@ -16,7 +21,7 @@ def add_model_options(parser: argparse.ArgumentParser) -> None:
         "'none': the detector's own class heads)",
     )
     parser.add_argument(
-        "--dot-refiner",
+        "--diamond-refiner",
         default=None,
         help="diamond refiner ONNX re-reading each diamond's box and score from full-resolution crops (default: the "
         "bundled one; 'none': the detector's own diamond boxes)",
@@ -51,15 +56,11 @@ def add_detector_options(parser: argparse.ArgumentParser) -> None:
 
 
 def detector_from_args(args: argparse.Namespace, conf_threshold: float):
-    """The :class:`~pix2pockets.vision.onnx_detector.OnnxDetector` the options describe."""
-    from pix2pockets.vision.onnx_detector import (
+    """The :class:`~pix2pockets.vision.detect.onnx_detector.OnnxDetector` the options describe."""
+    from pix2pockets.vision.detect.onnx_detector import (
         OnnxDetector,
         OnnxDetectorConfig,
-        ball_refiner_from_option,
-        classifier_from_option,
         default_model_path,
-        dot_refiner_from_option,
-        number_reader_from_option,
     )
 
     model = Path(args.model) if args.model else default_model_path()
@@ -69,31 +70,28 @@ def detector_from_args(args: argparse.Namespace, conf_threshold: float):
         conf_threshold=conf_threshold,
         threads=args.threads,
     )
-    classifier = classifier_from_option(args.classifier, args.threads)
-    dot_refiner = dot_refiner_from_option(args.dot_refiner, args.threads)
-    ball_refiner = ball_refiner_from_option(args.ball_refiner, args.threads)
-    numbers = number_reader_from_option(args.numbers, args.threads)
-    return OnnxDetector(model, config, classifier, dot_refiner, ball_refiner, numbers)
+    classifier = BallClassifier.from_option(args.classifier, args.threads)
+    diamond_refiner = DiamondRefiner.from_option(args.diamond_refiner, args.threads)
+    ball_refiner = BallRefiner.from_option(args.ball_refiner, args.threads)
+    numbers = BallNumberReader.from_option(args.numbers, args.threads)
+    return OnnxDetector(model, config, classifier, diamond_refiner, ball_refiner, numbers)
 
 
 def chosen_detector(args: argparse.Namespace):
-    """The detector ``--model`` / ``--classifier`` / ``--dot-refiner`` / ``--ball-refiner`` / ``--numbers`` ask for, or
+    """The detector ``--model`` / ``--classifier`` / ``--diamond-refiner`` / ``--ball-refiner`` / ``--numbers`` ask
+    for, or
     None when none is given (use the default)."""
-    if not (args.model or args.classifier or args.dot_refiner or args.ball_refiner or args.numbers):
+    if not (args.model or args.classifier or args.diamond_refiner or args.ball_refiner or args.numbers):
         return None
-    from pix2pockets.vision.onnx_detector import (
+    from pix2pockets.vision.detect.onnx_detector import (
         OnnxDetector,
-        ball_refiner_from_option,
-        classifier_from_option,
         default_model_path,
-        dot_refiner_from_option,
-        number_reader_from_option,
     )
 
     return OnnxDetector(
         args.model or default_model_path(),
-        classifier=classifier_from_option(args.classifier),
-        dot_refiner=dot_refiner_from_option(args.dot_refiner),
-        ball_refiner=ball_refiner_from_option(args.ball_refiner),
-        number_reader=number_reader_from_option(args.numbers),
+        classifier=BallClassifier.from_option(args.classifier),
+        diamond_refiner=DiamondRefiner.from_option(args.diamond_refiner),
+        ball_refiner=BallRefiner.from_option(args.ball_refiner),
+        number_reader=BallNumberReader.from_option(args.numbers),
     )

@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 
 from pix2pockets.cli.detector_options import add_detector_options, detector_from_args
-from pix2pockets.cli.output import check_output, write_json
+from pix2pockets.files import check_output, write_json
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -51,7 +51,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     from pix2pockets.synth.cameras import camera_kinds
-    from pix2pockets.vision.evaluation import EvalOptions, evaluate_detector, format_table
+    from pix2pockets.vision.metrics.evaluation import EvalOptions, evaluate_detector, format_table
 
     check_output(args.json_out, args.force)
     try:
@@ -59,18 +59,18 @@ def run(args: argparse.Namespace) -> int:
     except ValueError as err:
         raise ValueError(f"--ball-classes must be comma-separated integers, got {args.ball_classes!r}") from err
     if args.detector == "hough":
-        from pix2pockets.vision.hough import HoughDetector, HoughParams
+        from pix2pockets.vision.metrics.hough import HoughDetector, HoughParams
 
         try:
             r_min, r_max = (int(v) for v in args.hough_radii.split(","))
         except ValueError as err:
             raise ValueError(f"--hough-radii must be two integers like 15,30, got {args.hough_radii!r}") from err
-        detector = HoughDetector(HoughParams(min_radius_ball=r_min, max_radius=r_max), dots=not args.agnostic)
+        detector = HoughDetector(HoughParams(min_radius_ball=r_min, max_radius=r_max), diamonds=not args.agnostic)
         model = "hough"
     else:
         detector = detector_from_args(args, 0.01)
         model = str(detector.model_path)
-        for stage in (detector.ball_refiner, detector.classifier, detector.number_reader, detector.dot_refiner):
+        for stage in (detector.ball_refiner, detector.classifier, detector.number_reader, detector.diamond_refiner):
             if stage is not None:
                 model += f" + {stage.model_path}"
     if args.table_class is not None and not args.agnostic:

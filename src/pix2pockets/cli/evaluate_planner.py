@@ -11,7 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pix2pockets.cli.output import check_output, write_json
+from pix2pockets.files import check_output, write_json
 from pix2pockets.planner.evaluation import BALL_SETS, evaluate_planner
 from pix2pockets.planner.noise import noise_model
 from pix2pockets.planner.registry import PLANNER_NAMES, make_planner

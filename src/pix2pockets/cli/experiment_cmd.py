@@ -9,7 +9,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pix2pockets.cli.output import check_output, write_json
+from pix2pockets.files import check_output, write_json
 from pix2pockets.planner.experiments import (
     PAPER_SHIFT1,
     PAPER_SHIFT2,

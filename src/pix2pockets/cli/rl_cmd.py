@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from pix2pockets.cli.output import check_output, write_json
+from pix2pockets.files import check_output, write_json
 
 ALGO_NAMES = ("ppo", "td3", "a2c", "ddpg", "sac", "maskable-ppo")
 ENV_HELP = "one, two, all (the paper's 1-ball, 2-ball, all-ball) or a registered Gymnasium id"

@@ -4,20 +4,13 @@ from __future__ import annotations
 
 import argparse
 import json
-from importlib import resources
 from pathlib import Path
 
 from pix2pockets.cli.detector_options import add_model_options, chosen_detector
-from pix2pockets.cli.output import check_output, write_atomic
+from pix2pockets.data.examples import example_photo_path
+from pix2pockets.files import check_output, write_atomic
 
-EXAMPLE_PHOTO = "table_example.jpg"
-EXAMPLE_LABELS = "table_example.labels.json"
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".webp")
-
-
-def example_photo_path() -> str:
-    """Path of the bundled example photo."""
-    return str(resources.files("pix2pockets.data.examples").joinpath(EXAMPLE_PHOTO))
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -97,6 +90,7 @@ def run(args: argparse.Namespace) -> int:
         planner=planner,
         spec=table_preset(args.table),
         locate_method=args.method,
+        number_reader=(args.numbers or "").lower() != "none",
     )
     # everything is computed before anything is written: errors leave no partial outputs
     picture = encode_picture(render_result(rgb, result), Path(args.out).suffix) if args.out else None

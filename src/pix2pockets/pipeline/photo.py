@@ -19,18 +19,19 @@ from pix2pockets.geometry.raster import table_to_env_pixels
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.pipeline.planning import ShotPlanner, default_planner, plan_shot
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
-from pix2pockets.vision.ball_location import LocateMethod, locate_balls
-from pix2pockets.vision.ball_numbers import BallNumberReader
-from pix2pockets.vision.base import Detector
 from pix2pockets.vision.classes import CLASS_NAMES
-from pix2pockets.vision.detections import Detections
+from pix2pockets.vision.detect.base import Detector
+from pix2pockets.vision.detect.detections import Detections
+from pix2pockets.vision.detect.postprocess import DEFAULT_NMS_IOU, box_iou, resolve_ball_classes
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.postprocess import DEFAULT_NMS_IOU, box_iou, resolve_ball_classes
-from pix2pockets.vision.rail_height import refine_fit_height
-from pix2pockets.vision.table_fit import fit_table
+from pix2pockets.vision.locate.balls import LocateMethod, locate_balls
+from pix2pockets.vision.stages.ball_classifier import NUMBER_PROBS
+from pix2pockets.vision.stages.ball_numbers import BallNumberReader, assign_numbers
+from pix2pockets.vision.table.fit import fit_table
+from pix2pockets.vision.table.rail_height import refine_fit_height
 
 MIN_IMAGE_SIDE = 64  # [px]
-# Minimum confidence per class id (cue, black, solid, stripe, dot). Cue and black are capped at one
+# Minimum confidence per class id (cue, black, solid, stripe, diamond). Cue and black are capped at one
 # detection each by post-processing, so a lower bar costs at most one false ball and keeps a faint cue.
 MIN_CONFIDENCE = np.array([0.15, 0.15, 0.3, 0.3, 0.25])
 SURE_BALL_SCORE = 0.45
@@ -47,7 +48,7 @@ def default_detector() -> Detector:
     Raises:
         ValueError: when the model file is missing or unreadable.
     """
-    from pix2pockets.vision.onnx_detector import OnnxDetector
+    from pix2pockets.vision.detect.onnx_detector import OnnxDetector
 
     try:
         return OnnxDetector.from_default()
@@ -61,9 +62,8 @@ def default_detector() -> Detector:
 def default_number_reader() -> BallNumberReader | None:
     """The bundled ball-number reader, loaded once per process; None in a checkout without its weights (the
     suggestion then names balls by class only)."""
-    from pix2pockets.vision.onnx_detector import number_reader_from_option
 
-    return number_reader_from_option(None)
+    return BallNumberReader.from_option(None)
 
 
 def load_image(image: str | Path | np.ndarray) -> np.ndarray:
@@ -101,6 +101,27 @@ def clean_detections(raw: Detections) -> Detections:
     return det[(score >= MIN_CONFIDENCE[det.class_id]) | sure_ball]
 
 
+def read_numbers(
+    rgb: np.ndarray, balls: Detections, number_reader: BallNumberReader | bool | None
+) -> list[tuple[int | None, float | None]]:
+    """Each ball's number (0-15) and its chance, ``(None, None)`` where unknown.
+
+    ``number_reader`` True reads what the detector measured (``data["number_probs"]``) or, when it measured no
+    numbers, the bundled reader; a reader reads the balls itself; False or None names no numbers.
+    """
+    numbers = chances = None
+    probs = balls.data.get(NUMBER_PROBS)
+    if number_reader is True and probs is not None and len(balls) and np.all(np.isfinite(probs)):
+        numbers, chances = assign_numbers(probs, balls.class_id)
+    else:
+        reader = default_number_reader() if number_reader is True else number_reader or None
+        if reader is not None and len(balls):
+            numbers, chances = reader.numbers(rgb, balls.boxes, balls.class_id, balls.pixel_aspect)
+    if numbers is None:
+        return [(None, None)] * len(balls)
+    return [(int(n), float(c)) if n >= 0 else (None, None) for n, c in zip(numbers, chances, strict=True)]
+
+
 def suggest(
     image: str | Path | np.ndarray,
     group: str = "auto",
@@ -123,10 +144,10 @@ def suggest(
         locate_method: ball location method (``sphere``, ``contact`` or ``linear``).
         rng: randomness for the planner (a fixed seed when ``None``).
         measure_rail_height: measure the diamond-plane height above the cloth from the cushion noses
-            (:mod:`pix2pockets.vision.rail_height`); otherwise the typical height is assumed.
-        number_reader: reads each ball's number (``True``: the detector's own reader when it has one, like the
-            bundled ONNX detector, else the bundled reader when present; ``False`` or ``None``: balls are named by
-            class only).
+            (:mod:`pix2pockets.vision.table.rail_height`); otherwise the typical height is assumed.
+        number_reader: reads each ball's number (``True``: the numbers the detector read, like the bundled ONNX
+            detector, else the bundled reader when present; a reader: that reader; ``False`` or ``None``: balls are
+            named by class only).
 
     Raises:
         ValueError: unreadable image, no table found, too few table points, no cue ball, no balls of the
@@ -146,7 +167,7 @@ def suggest(
 
     t = time.perf_counter()
     det = clean_detections(raw)
-    fit = fit_table(det, (w, h), spec)  # a stretched photo's ball boxes carry its pixel aspect
+    fit = fit_table(det, (w, h), spec, pixel_aspect=det.pixel_aspect)  # the pixel aspect the detector measured
     timings["fit"] = time.perf_counter() - t
 
     t = time.perf_counter()
@@ -164,16 +185,8 @@ def suggest(
     timings["locate"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    if number_reader is True:  # the detector's own reader when it has that stage, else the bundled one
-        reader = detector.number_reader if hasattr(detector, "number_reader") else default_number_reader()
-    else:
-        reader = number_reader or None
     kept = located.detections
-    if reader is not None and len(kept):
-        numbers, chances = reader.numbers(rgb, kept.boxes, kept.class_id)
-        read = [(int(n), float(c)) if n >= 0 else (None, None) for n, c in zip(numbers, chances, strict=True)]
-    else:
-        read = [(None, None)] * len(kept)
+    read = read_numbers(rgb, kept, number_reader)
     timings["numbers"] = time.perf_counter() - t
 
     t = time.perf_counter()

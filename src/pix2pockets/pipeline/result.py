@@ -41,7 +41,7 @@ class LocatedBall:
         table_xy_m: ball centre in the table frame [m].
         env_xy_px: the same in the paper's environment pixels (735 x 410 window, see
             :func:`pix2pockets.geometry.raster.table_to_env_pixels`).
-        number: the ball's number 0-15 as read from the photo (:mod:`pix2pockets.vision.ball_numbers`), ``None``
+        number: the ball's number 0-15 as read from the photo (:mod:`pix2pockets.vision.stages.ball_numbers`), ``None``
             when not read.
         number_chance: the reader's chance of that number among the numbers of the ball's class.
     """

@@ -65,7 +65,7 @@ def data_yaml() -> str:
         "test: test/images\n\n"
         f"nc: {len(CLASS_NAMES)}\n"
         f"names: [{names}]\n\n"
-        "# pix2pockets synthetic renders; boxes = visible extent of each ball, dots padded to >= 4 px\n"
+        "# pix2pockets synthetic renders; boxes = visible extent of each ball, diamonds padded to >= 4 px\n"
         "# (labelled only when they show in the photo).\n"
     )
 
@@ -195,7 +195,7 @@ def write_dataset(
             "split": list(fractions),
             "classes": list(CLASS_NAMES),
             "box_convention": (
-                "visible extent of each ball (clipped to the image); dots: projected sight, >= 4 px, labelled when "
+                "visible extent of each ball (clipped to the image); diamonds: projected sight, >= 4 px, labelled when "
                 "drawing it changes the photo by >= 12 of 255"
             ),
             "counts": {s: sum(1 for it in items if it["image"].startswith(s + "/")) for s in SPLITS},

@@ -2,7 +2,7 @@
 
 Box convention: YOLO boxes are the **visible extent** of each object (the bounding box of its pixels that
 are neither hidden by another object nor by a 2-D occluder/overlay), clipped to the image. Diamonds are
-tiny, so their box is the projected outline of the sight, padded to at least ``MIN_DOT_BOX_PX`` and clipped.
+tiny, so their box is the projected outline of the sight, padded to at least ``MIN_DIAMOND_BOX_PX`` and clipped.
 The label file also keeps each ball's full silhouette box (clipped) so a consumer can choose.
 """
 
@@ -15,18 +15,18 @@ import numpy as np
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.synth import raycast as rc
 from pix2pockets.synth.scene import Scene
-from pix2pockets.vision.classes import CLASS_NAMES, DOT_ID, MIN_DOT_BOX_PX
+from pix2pockets.vision.classes import CLASS_NAMES, DIAMOND_ID, MIN_DIAMOND_BOX_PX
 
 BALL_MIN_VISIBLE = 0.3
 """A ball goes into the YOLO labels when at least this fraction of its silhouette is visible."""
 BALL_MIN_PIXELS = 6
-DOT_MIN_VISIBLE = 0.5
-DOT_MIN_SIGNAL = 12
+DIAMOND_MIN_VISIBLE = 0.5
+DIAMOND_MIN_SIGNAL = 12
 """A diamond goes into the YOLO labels only when drawing it changes some pixel of the final photo (after
 blur, noise and compression) by at least this much (0-255, largest channel): a sight that is there in the
 geometry but cannot be seen (sub-pixel at a grazing angle, the rail's own colour, washed out by blur) is not
 something a detector, or a person labelling photos, can find."""
-DOT_SIGNAL_MARGIN_PX = 2
+DIAMOND_SIGNAL_MARGIN_PX = 2
 """The signal is looked for this far around a diamond's box [px] (blur spreads a small sight)."""
 CLASS_OF_NUMBER = {0: 0, 8: 1, **{n: 2 for n in range(1, 8)}, **{n: 3 for n in range(9, 16)}}
 
@@ -123,7 +123,7 @@ def build_labels(
         occluded: pixels covered by 2-D occluders or overlays (H, W) bool.
         sil_count: pixels per ball whose ray meets the ball's sphere, occluded or not (n,).
         diamond_signal: per pixel, how much the diamonds change the final photo (H, W) [0-255]; when given,
-            a diamond is labelled only if it reaches ``DOT_MIN_SIGNAL`` within its box.
+            a diamond is labelled only if it reaches ``DIAMOND_MIN_SIGNAL`` within its box.
     """
     w, h = cam.image_size
     counts, hidden, boxes = rc.object_stats(ids, occluded, rc.ID_BALL0 + 16)
@@ -197,16 +197,16 @@ def build_labels(
                 vis = min(1.0, counts[idk] / area)
             lo, hi = outline.min(axis=0), outline.max(axis=0)
             c = (lo + hi) / 2
-            half = np.maximum((hi - lo) / 2, MIN_DOT_BOX_PX / 2)
+            half = np.maximum((hi - lo) / 2, MIN_DIAMOND_BOX_PX / 2)
             box = _clip_box(np.array([*(c - half), *(c + half)]), w, h)
             entry["box_px"] = box
             entry["visible_fraction"] = round(float(vis), 4)
             seen = True
             if diamond_signal is not None and box is not None:
-                signal = _peak_in_box(diamond_signal, box, DOT_SIGNAL_MARGIN_PX)
+                signal = _peak_in_box(diamond_signal, box, DIAMOND_SIGNAL_MARGIN_PX)
                 entry["signal"] = signal
-                seen = signal >= DOT_MIN_SIGNAL
-            entry["labelled"] = bool(in_frame and box is not None and vis >= DOT_MIN_VISIBLE and seen)
+                seen = signal >= DIAMOND_MIN_SIGNAL
+            entry["labelled"] = bool(in_frame and box is not None and vis >= DIAMOND_MIN_VISIBLE and seen)
         diamonds.append(entry)
 
     corners = []
@@ -239,9 +239,9 @@ def yolo_lines(labels: dict) -> list[str]:
     for ball in labels["balls"]:
         if ball["labelled"]:
             rows.append((ball["class_id"], ball["box_px"]))
-    for dot in labels["diamonds"]:
-        if dot["labelled"]:
-            rows.append((DOT_ID, dot["box_px"]))
+    for diamond in labels["diamonds"]:
+        if diamond["labelled"]:
+            rows.append((DIAMOND_ID, diamond["box_px"]))
     out = []
     for cls, (x0, y0, x1, y1) in rows:
         out.append(f"{cls} {(x0 + x1) / 2 / w:.6f} {(y0 + y1) / 2 / h:.6f} {(x1 - x0) / w:.6f} {(y1 - y0) / h:.6f}")

@@ -99,7 +99,7 @@ DARK_DIAMOND_COLOURS = (
 )
 LIGHT_RAILS = ("white", "silver")
 DARK_DIAMONDS_ON_LIGHT_RAILS = 0.6
-"""Chance that a white or silver rail gets dark diamonds (white dots on a white rail are nearly invisible)."""
+"""Chance that a white or silver rail gets dark diamonds (white diamonds on a white rail are nearly invisible)."""
 
 
 def weighted_choice(rng: np.random.Generator, weights: dict[str, float]) -> str:

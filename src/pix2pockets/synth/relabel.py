@@ -2,7 +2,7 @@
 
 Every image keeps its seed in its meta file, so it can be rendered again: the pixels must come out the same
 (checked), and the labels are written by the current rules. Used when a rule changes, e.g. diamonds are
-labelled only when they show in the photo (``labels.DOT_MIN_SIGNAL``).
+labelled only when they show in the photo (``labels.DIAMOND_MIN_SIGNAL``).
 
 Example:
     >>> relabel_dataset("data/synth-v2/chunk-s111", "data/synth-v2/chunk-s111-relabelled")  # doctest: +SKIP

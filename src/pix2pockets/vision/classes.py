@@ -8,21 +8,21 @@ from pix2pockets.state.ball import CLASS_CAPS, BallClass
 
 
 class DetClass(StrEnum):
-    """Detection classes (the paper's five): four ball classes and the diamond sight ``dot``."""
+    """Detection classes (the paper's five): four ball classes and the diamond sight ``diamond``."""
 
     CUE = "cue"
     BLACK = "black"
     SOLID = "solid"
     STRIPE = "stripe"
-    DOT = "dot"
+    DIAMOND = "dot"
 
 
 CLASS_NAMES: tuple[str, ...] = tuple(c.value for c in DetClass)
-"""Class names by id: 0 cue, 1 black, 2 solid, 3 stripe, 4 dot (YOLO ``data.yaml`` order)."""
+"""Class names by id: 0 cue, 1 black, 2 solid, 3 stripe, 4 diamond (YOLO ``data.yaml`` order)."""
 
-DOT_ID = CLASS_NAMES.index("dot")
+DIAMOND_ID = CLASS_NAMES.index("dot")
 BALL_IDS = tuple(range(4))
-MIN_DOT_BOX_PX = 4.0
+MIN_DIAMOND_BOX_PX = 4.0
 """Smallest side of a diamond box [px]: the synthetic labels pad a sight's outline to it, and the decoder maps
 the network's floor to the same floor in image pixels at any input scale (``heatmap_decode``)."""
 

@@ -41,7 +41,7 @@ from starlette.exceptions import HTTPException as StarletteHTTPException
 from pix2pockets import __version__
 from pix2pockets.pipeline.planning import ShotPlanner
 from pix2pockets.state import Group
-from pix2pockets.vision.base import Detector
+from pix2pockets.vision.detect.base import Detector
 from pix2pockets.vision.image_io import MAX_PIXELS
 
 MAX_UPLOAD_BYTES = 20_000_000
@@ -132,7 +132,7 @@ def create_app(
     """
     if max_upload_bytes < 1 or max_pixels < 1:
         raise ValueError("max_upload_bytes and max_pixels must be positive")
-    from pix2pockets.cli.suggest_cmd import example_photo_path
+    from pix2pockets.data.examples import example_photo_path
 
     example = Path(example_photo) if example_photo is not None else Path(example_photo_path())
     page = _page().replace("{{MAX_UPLOAD_BYTES}}", str(max_upload_bytes)).replace("{{VERSION}}", __version__)

@@ -5,14 +5,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from pix2pockets.vision.ball_refiner import BALL_REFINE_CROP_SIZE
+from pix2pockets.vision.metrics.yolo_data import LabelledImage
+from pix2pockets.vision.stages.ball_refiner import BALL_REFINE_CROP_SIZE
 from pix2pockets.vision.train.ball_box_data import (
     BallBoxCropConfig,
     collect_ball_box_crops,
     image_ball_box_crops,
     jittered_boxes,
 )
-from pix2pockets.vision.yolo_data import LabelledImage
 
 IDENTITY = {k: k for k in range(5)}
 BALLS = [[60, 60, 76, 76], [150, 100, 166, 116]]

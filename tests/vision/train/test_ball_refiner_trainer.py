@@ -6,7 +6,7 @@ import pytest
 
 torch = pytest.importorskip("torch")
 
-from pix2pockets.vision.ball_refiner import BALL_REFINE_CROP_SIZE, BallRefiner  # noqa: E402
+from pix2pockets.vision.stages.ball_refiner import BALL_REFINE_CROP_SIZE, BallRefiner  # noqa: E402
 from pix2pockets.vision.train.ball_refiner_trainer import (  # noqa: E402
     BallRefinerTrainConfig,
     export_ball_refiner,

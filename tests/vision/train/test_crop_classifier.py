@@ -5,8 +5,8 @@ import pytest
 
 torch = pytest.importorskip("torch")
 
-from pix2pockets.vision.ball_classifier import BallClassifier  # noqa: E402
-from pix2pockets.vision.ball_crops import CROP_SIZE, crop_balls  # noqa: E402
+from pix2pockets.vision.stages.ball_classifier import BallClassifier  # noqa: E402
+from pix2pockets.vision.stages.crops import CROP_SIZE, crop_balls  # noqa: E402
 from pix2pockets.vision.train.crop_classifier import (  # noqa: E402
     CropNet,
     CropTrainConfig,

@@ -4,8 +4,8 @@ from pathlib import Path
 
 import numpy as np
 
+from pix2pockets.vision.metrics.yolo_data import LabelledImage
 from pix2pockets.vision.train.crop_data import NO_BALL, CropConfig, image_crops
-from pix2pockets.vision.yolo_data import LabelledImage
 
 IDENTITY = {k: k for k in range(5)}
 
@@ -15,12 +15,12 @@ def _item(boxes, classes) -> LabelledImage:
     return LabelledImage(Path("x.png"), b, np.asarray(classes), np.full((len(b), 2), np.nan), (320, 240))
 
 
-def test_each_labelled_ball_gives_its_class_and_dots_give_no_ball():
+def test_each_labelled_ball_gives_its_class_and_diamonds_give_no_ball():
     item = _item([[100, 100, 120, 120], [200, 100, 220, 120], [50, 50, 54, 54]], [0, 3, 4])
     cfg = CropConfig(copies=2, low_res=0.0, random_negatives=0.0, off_centre_negatives=0.0)
     crops, labels = image_crops(np.zeros((240, 320, 3), np.uint8), item, IDENTITY, np.random.default_rng(0), cfg)
     assert len(crops) == len(labels)
-    assert sorted(labels.tolist()) == [0, 0, 3, 3, NO_BALL]  # 2 copies per ball, 1 for the dot
+    assert sorted(labels.tolist()) == [0, 0, 3, 3, NO_BALL]  # 2 copies per ball, 1 for the diamond
 
 
 def test_no_ball_crops_avoid_balls_and_are_dark_on_a_black_image():

@@ -2,7 +2,7 @@
 
 import numpy as np
 
-from pix2pockets.vision.ball_crops import CROP_SIZE
+from pix2pockets.vision.stages.crops import CROP_SIZE
 from pix2pockets.vision.train.icon_crops import ball_icon_crops
 
 

@@ -4,7 +4,7 @@ import pytest
 
 torch = pytest.importorskip("torch")
 
-from pix2pockets.vision.heatmap_layout import N_OUT  # noqa: E402
+from pix2pockets.vision.detect.heads import N_OUT  # noqa: E402
 from pix2pockets.vision.train.loss import ball_class_loss  # noqa: E402
 
 
@@ -28,8 +28,8 @@ def test_class_loss_is_zero_without_labelled_balls():
 def test_heat_mask_adds_the_off_table_diamond_cells():
     import torch
 
-    from pix2pockets.vision.classes import DOT_ID
-    from pix2pockets.vision.heatmap_layout import N_HEAT
+    from pix2pockets.vision.classes import DIAMOND_ID
+    from pix2pockets.vision.detect.heads import N_HEAT
     from pix2pockets.vision.train.loss import heat_mask
 
     kind = torch.ones(2, N_HEAT)
@@ -39,5 +39,5 @@ def test_heat_mask_adds_the_off_table_diamond_cells():
     m = heat_mask({"kind_mask": kind, "heat": torch.zeros(2, N_HEAT, 4, 4), "off_table": off})
     assert m.shape == (2, N_HEAT, 4, 4)
     assert m[0].min() == 1
-    assert m[1, DOT_ID].sum() == 1 and m[1, DOT_ID, 0, 0] == 1
+    assert m[1, DIAMOND_ID].sum() == 1 and m[1, DIAMOND_ID, 0, 0] == 1
     assert m[1, 0].sum() == 0 and m[1, 5].min() == 1

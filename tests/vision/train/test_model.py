@@ -4,7 +4,7 @@ import pytest
 
 torch = pytest.importorskip("torch")
 
-from pix2pockets.vision.heatmap_layout import BALL_ANY, N_OUT  # noqa: E402
+from pix2pockets.vision.detect.heads import BALL_ANY, N_OUT  # noqa: E402
 from pix2pockets.vision.train.model import ExportWrapper  # noqa: E402
 
 
@@ -22,12 +22,12 @@ def test_ball_class_scores_appear_only_where_any_ball_peaks():
     raw[0, BALL_ANY, 4, 4] = 3.0  # one ball at (4, 4)
     raw[0, 0, 4, 5] = 2.0  # cue head peaks one cell off
     raw[0, 0, 4, 4] = 1.5
-    raw[0, 4, 8, 8] = 2.0  # a dot elsewhere
+    raw[0, 4, 8, 8] = 2.0  # a diamond elsewhere
     out = ExportWrapper(_Fixed(raw))(torch.zeros(1, 3, 40, 40))
     cue = out[0, 0]
     assert torch.count_nonzero(cue > 0.01) == 1
     assert float(cue[4, 4]) == pytest.approx(float(torch.sigmoid(torch.tensor(1.5))))
-    assert float(out[0, 4, 8, 8]) > 0.8  # dots keep their own peaks
+    assert float(out[0, 4, 8, 8]) > 0.8  # diamonds keep their own peaks
     assert float(out[0, 2].max()) < 0.01  # no solid score where no ball
 
 

@@ -5,9 +5,9 @@ import json
 import numpy as np
 import pytest
 
+from pix2pockets.vision.metrics.yolo_data import LabelledImage
 from pix2pockets.vision.train.crop_data import CropConfig
 from pix2pockets.vision.train.number_data import collect_number_crops, meta_path, number_crops, numbered_balls
-from pix2pockets.vision.yolo_data import LabelledImage
 
 META = {
     "balls": [

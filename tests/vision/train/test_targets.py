@@ -5,8 +5,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from pix2pockets.vision.metrics.yolo_data import LabelledImage
 from pix2pockets.vision.train.targets import AugmentConfig, make_sample
-from pix2pockets.vision.yolo_data import LabelledImage
 
 
 def _item() -> LabelledImage:
@@ -20,7 +20,7 @@ def test_ball_class_is_labelled_for_balls_only():
     s = make_sample(image, _item(), {k: k for k in range(5)}, False, cfg, np.random.default_rng(0))
     n = int(s.reg_mask.sum())
     assert n == 3
-    # objects are stored largest first: stripe (18 px), cue (20 px) ... dot last
+    # objects are stored largest first: stripe (18 px), cue (20 px) ... diamond last
     assert sorted(s.ball_class[:n].tolist()) == [-1, 0, 3]
     assert np.all(s.ball_class[n:] == -1)
 

@@ -12,10 +12,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pix2pockets.vision.ball_refiner import BALL_REFINE_CROP_SIZE, box_targets, crop_for_refiner
 from pix2pockets.vision.classes import BALL_IDS
+from pix2pockets.vision.metrics.yolo_data import LabelledImage
+from pix2pockets.vision.stages.ball_refiner import BALL_REFINE_CROP_SIZE, box_targets, crop_for_refiner
 from pix2pockets.vision.train.crop_data import collect_from_images, degrade_crops
-from pix2pockets.vision.yolo_data import LabelledImage
 
 
 @dataclass(frozen=True, slots=True)

@@ -14,13 +14,13 @@ from typing import ClassVar
 import numpy as np
 from torch import nn
 
-from pix2pockets.vision.ball_refiner import (
+from pix2pockets.vision.image_io import read_image_rgb
+from pix2pockets.vision.stages.ball_refiner import (
     BALL_REFINE_CONTEXT,
     BALL_REFINE_CROP_SIZE,
     DEFAULT_BALL_REFINER,
     OUTPUT_NAME,
 )
-from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.train.ball_box_data import BallBoxCropConfig, collect_ball_box_crops
 from pix2pockets.vision.train.crop_fit import CropTrainSettings
 from pix2pockets.vision.train.refiner_trainer import (

@@ -18,14 +18,14 @@ import numpy as np
 import torch
 from torch import nn
 
-from pix2pockets.vision.ball_classifier import OUTPUT_NAME
-from pix2pockets.vision.ball_crops import CROP_SIZE
 from pix2pockets.vision.image_io import read_image_rgb
+from pix2pockets.vision.metrics.yolo_data import load_splits
+from pix2pockets.vision.stages.ball_classifier import OUTPUT_NAME
+from pix2pockets.vision.stages.crops import CROP_SIZE
 from pix2pockets.vision.train.crop_data import CROP_LABELS, NO_BALL, CropConfig, collect_crops, degrade_crops
 from pix2pockets.vision.train.crop_fit import CropTrainSettings, fit_crops, labelled_sources, predict_crops
 from pix2pockets.vision.train.icon_crops import ball_icon_crops
 from pix2pockets.vision.train.onnx_export import write_onnx
-from pix2pockets.vision.yolo_data import load_splits
 
 ONNX_NAME = "ball-classifier.onnx"
 

@@ -13,9 +13,9 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from pix2pockets.vision.ball_crops import CROP_SIZE, ball_diameters, crop_balls
-from pix2pockets.vision.classes import BALL_IDS, DOT_ID
-from pix2pockets.vision.yolo_data import LabelledImage
+from pix2pockets.vision.classes import BALL_IDS, DIAMOND_ID
+from pix2pockets.vision.metrics.yolo_data import LabelledImage
+from pix2pockets.vision.stages.crops import CROP_SIZE, ball_diameters, crop_balls
 
 NO_BALL = len(BALL_IDS)
 """Classifier label of "no ball" (after the four ball classes)."""
@@ -33,7 +33,7 @@ class CropConfig:
         low_res: probability that a crop is re-sampled through a lower resolution (far or blurred balls).
         random_negatives: random "no ball" crops per labelled ball.
         off_centre_negatives: crops centred 0.75-1.1 diameters from a ball, per labelled ball.
-        dot_negatives: most diamond crops per image.
+        diamond_negatives: most diamond crops per image.
         crop_size: side of a crop [px].
     """
 
@@ -43,7 +43,7 @@ class CropConfig:
     low_res: float = 0.4
     random_negatives: float = 0.6
     off_centre_negatives: float = 0.25
-    dot_negatives: int = 6
+    diamond_negatives: int = 6
     crop_size: int = CROP_SIZE
 
 
@@ -100,12 +100,12 @@ def image_crops(
             labels.append(kl)
 
     negatives = []
-    dots = centres[cls == DOT_ID]
-    if len(dots) > cfg.dot_negatives:
-        dots = dots[rng.choice(len(dots), cfg.dot_negatives, replace=False)]
-    if len(dots):
-        d = typical_d * rng.uniform(0.7, 1.3, size=len(dots))
-        negatives.append((dots + rng.normal(0, 0.05, dots.shape) * d[:, None], d))
+    diamonds = centres[cls == DIAMOND_ID]
+    if len(diamonds) > cfg.diamond_negatives:
+        diamonds = diamonds[rng.choice(len(diamonds), cfg.diamond_negatives, replace=False)]
+    if len(diamonds):
+        d = typical_d * rng.uniform(0.7, 1.3, size=len(diamonds))
+        negatives.append((diamonds + rng.normal(0, 0.05, diamonds.shape) * d[:, None], d))
     n_off = rng.binomial(len(ball_c), cfg.off_centre_negatives) if len(ball_c) else 0
     if n_off:
         pick = rng.integers(0, len(ball_c), n_off)

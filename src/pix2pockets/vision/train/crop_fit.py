@@ -13,7 +13,7 @@ import numpy as np
 import torch
 from torch import nn
 
-from pix2pockets.vision.yolo_data import LabelledImage, dataset_class_map, load_split
+from pix2pockets.vision.metrics.yolo_data import LabelledImage, dataset_class_map, load_split
 
 BatchLoss = Callable[[nn.Module, torch.Tensor, torch.Tensor, torch.Generator], torch.Tensor]
 """(model, crops (B, 3, S, S) float 0-255, targets (B, ...), generator) -> loss; augments the batch itself."""

@@ -15,7 +15,7 @@ from __future__ import annotations
 import cv2
 import numpy as np
 
-from pix2pockets.vision.ball_crops import CROP_CONTEXT, CROP_SIZE
+from pix2pockets.vision.stages.crops import CROP_CONTEXT, CROP_SIZE
 
 ICON_COLOURS_RGB: tuple[tuple[int, int, int], ...] = (
     (250, 200, 30),  # 1 yellow

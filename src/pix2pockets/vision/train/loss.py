@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import torch
 
-from pix2pockets.vision.classes import BALL_IDS, DOT_ID
-from pix2pockets.vision.heatmap_layout import CONTACT_SLICE, N_HEAT, OFFSET_SLICE, SIZE_SLICE
+from pix2pockets.vision.classes import BALL_IDS, DIAMOND_ID
+from pix2pockets.vision.detect.heads import CONTACT_SLICE, N_HEAT, OFFSET_SLICE, SIZE_SLICE
 
 
 def focal_loss(logits: torch.Tensor, target: torch.Tensor, channel_mask: torch.Tensor) -> torch.Tensor:
@@ -59,7 +59,7 @@ def heat_mask(batch: dict[str, torch.Tensor]) -> torch.Tensor:
     n, c = batch["kind_mask"].shape
     h, w = batch["heat"].shape[2:]
     m = batch["kind_mask"][:, :, None, None].expand(n, c, h, w).clone()
-    m[:, DOT_ID] = torch.maximum(m[:, DOT_ID], batch["off_table"])
+    m[:, DIAMOND_ID] = torch.maximum(m[:, DIAMOND_ID], batch["off_table"])
     return m
 
 

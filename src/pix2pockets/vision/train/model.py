@@ -1,6 +1,6 @@
 """CenterNet-style detector: MobileNetV2 trunk, a light upsampling neck to stride 4, dense heads.
 
-Output channels at stride 4 (see :mod:`pix2pockets.vision.heatmap_layout`): five class centre heatmaps, one
+Output channels at stride 4 (see :mod:`pix2pockets.vision.detect.heads`): five class centre heatmaps, one
 class-agnostic "ball" heatmap (also trained on ball-only real photos), log box size, sub-pixel centre
 offset and the ball-cloth contact point relative to the centre cell.
 
@@ -17,7 +17,7 @@ from torch import nn
 from torch.nn import functional as F  # noqa: N812
 
 from pix2pockets.vision.classes import BALL_IDS
-from pix2pockets.vision.heatmap_layout import (
+from pix2pockets.vision.detect.heads import (
     BALL_ANY,
     BALL_PEAK_RATIO,
     CONTACT_SLICE,
@@ -95,8 +95,8 @@ class CenterNet(nn.Module):
 class ExportWrapper(nn.Module):
     """What the ONNX file computes: sigmoid heatmaps with non-peaks zeroed, regressions as is.
 
-    A class or dot cell is a peak when it is the maximum of its 3x3 neighbourhood. An "any ball" cell is a
-    candidate when it holds at least :data:`~pix2pockets.vision.heatmap_layout.BALL_PEAK_RATIO` of that maximum,
+    A class or diamond cell is a peak when it is the maximum of its 3x3 neighbourhood. An "any ball" cell is a
+    candidate when it holds at least :data:`~pix2pockets.vision.detect.heads.BALL_PEAK_RATIO` of that maximum,
     so touching balls in neighbouring cells both survive; the decoder merges the candidates of one ball.
     """
 
@@ -114,6 +114,8 @@ class ExportWrapper(nn.Module):
         ball_peak = (near_peak & (any_ball >= 0.01)).to(heat.dtype)
         # Ball classes are read at the "any ball" candidates: after the decoder's merge one per ball, four scores.
         n_ball = len(BALL_IDS)
-        dots = slice(n_ball, BALL_ANY)
-        peaks = torch.cat([heat[:, :n_ball] * ball_peak, heat[:, dots] * is_peak[:, dots], any_ball * ball_peak], dim=1)
+        diamonds = slice(n_ball, BALL_ANY)
+        peaks = torch.cat(
+            [heat[:, :n_ball] * ball_peak, heat[:, diamonds] * is_peak[:, diamonds], any_ball * ball_peak], dim=1
+        )
         return torch.cat([peaks, out[:, SIZE_SLICE], out[:, OFFSET_SLICE], out[:, CONTACT_SLICE]], dim=1)

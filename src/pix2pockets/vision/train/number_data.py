@@ -13,9 +13,9 @@ from pathlib import Path
 
 import numpy as np
 
-from pix2pockets.vision.ball_crops import ball_diameters, crop_balls
+from pix2pockets.vision.metrics.yolo_data import LabelledImage
+from pix2pockets.vision.stages.crops import ball_diameters, crop_balls
 from pix2pockets.vision.train.crop_data import CropConfig, collect_from_images, degrade_crops
-from pix2pockets.vision.yolo_data import LabelledImage
 
 
 def meta_path(image_path: Path) -> Path:

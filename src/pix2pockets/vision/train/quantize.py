@@ -13,8 +13,8 @@ from pathlib import Path
 
 import numpy as np
 
+from pix2pockets.vision.detect.letterbox import network_input
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.letterbox import network_input
 
 CALIBRATION_LONG_SIDE = 640
 NETWORK_PREFIX = "/net/"
@@ -85,7 +85,7 @@ def calibration_images(
 
     ``exclude`` holds file-name glob patterns to leave out (e.g. frames of a validation video).
     """
-    from pix2pockets.vision.yolo_data import load_splits
+    from pix2pockets.vision.metrics.yolo_data import load_splits
 
     items = [it.image_path for it in load_splits(datasets, split, exclude)]
     if not items:

@@ -14,11 +14,11 @@ import numpy as np
 import torch
 from torch import nn
 
-from pix2pockets.vision.postprocess import paired_box_iou
+from pix2pockets.vision.detect.postprocess import paired_box_iou
+from pix2pockets.vision.metrics.yolo_data import LabelledImage
 from pix2pockets.vision.train.crop_classifier import CropNet, photometric
 from pix2pockets.vision.train.crop_fit import RawOutputs, fit_crops, flip_rotate, labelled_sources, predict_crops
 from pix2pockets.vision.train.onnx_export import write_onnx
-from pix2pockets.vision.yolo_data import LabelledImage
 
 Sources = Sequence[tuple[LabelledImage, dict[int, int]]]
 CollectCrops = Callable[[Sources, int], tuple[np.ndarray, np.ndarray]]
@@ -71,7 +71,7 @@ class RefinerSpec:
 
     Attributes:
         name: what it refines, for messages and the progress bar ("diamond refiner").
-        command: its training command, for error messages ("train-dot-refiner").
+        command: its training command, for error messages ("train-diamond-refiner").
         crop_size: crop side [px].
         context: crop side over the detected box's side (for the held-out "before" box).
         output_name: name of the ONNX output.

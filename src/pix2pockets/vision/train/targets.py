@@ -15,10 +15,10 @@ import cv2
 import numpy as np
 
 from pix2pockets.vision.classes import BALL_IDS
-from pix2pockets.vision.heatmap_layout import BALL_ANY, N_CLASSES, N_HEAT, STRIDE
-from pix2pockets.vision.letterbox import PAD_VALUE
-from pix2pockets.vision.table_box import TABLE_MARGIN, inside_table_boxes
-from pix2pockets.vision.yolo_data import LabelledImage
+from pix2pockets.vision.detect.heads import BALL_ANY, N_CLASSES, N_HEAT, STRIDE
+from pix2pockets.vision.detect.letterbox import PAD_VALUE
+from pix2pockets.vision.metrics.table_box import TABLE_MARGIN, inside_table_boxes
+from pix2pockets.vision.metrics.yolo_data import LabelledImage
 
 MAX_OBJECTS = 96
 
@@ -78,7 +78,7 @@ class Sample:
     offset: np.ndarray  # (MAX_OBJECTS, 2)
     contact: np.ndarray  # (MAX_OBJECTS, 2)
     contact_mask: np.ndarray  # (MAX_OBJECTS,)
-    ball_class: np.ndarray  # (MAX_OBJECTS,) int64 ball class 0-3, -1 where unknown (dots, ball-only photos)
+    ball_class: np.ndarray  # (MAX_OBJECTS,) int64 ball class 0-3, -1 where unknown (diamonds, ball-only photos)
     off_table: np.ndarray  # (S/4, S/4) float32, 1 outside the table box of a ball-only photo
 
 

@@ -20,11 +20,11 @@ import numpy as np
 import torch
 from tqdm import tqdm
 
+from pix2pockets.vision.metrics.yolo_data import LabelledImage, dataset_class_map, load_split, load_splits
 from pix2pockets.vision.train.loss import detector_loss
 from pix2pockets.vision.train.model import CenterNet, ExportWrapper
 from pix2pockets.vision.train.onnx_export import write_onnx
 from pix2pockets.vision.train.targets import AugmentConfig, Sample, make_sample
-from pix2pockets.vision.yolo_data import LabelledImage, dataset_class_map, load_split, load_splits
 
 CHECKPOINT = "last.pt"
 ONNX_NAME = "detector.onnx"

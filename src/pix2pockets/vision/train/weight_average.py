@@ -12,7 +12,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pix2pockets.cli.output import write_atomic
+from pix2pockets.files import write_atomic
 from pix2pockets.vision.train.onnx_file import load_onnx_model
 
 

@@ -1,0 +1,233 @@
+"""Ball location: from ball boxes in the image to ball centres on the table [m].
+
+Three methods (:class:`LocateMethod`):
+
+* ``sphere`` (default, exact): a ball is a sphere of radius ``R`` resting on the cloth, its centre at
+  height ``R``. The image of a sphere is an ellipse whose bounding box follows in closed form from the
+  camera (the dual conic ``K (C C^T - R^2 I) K^T`` for the centre ``C`` in camera coordinates). We find
+  the table point whose sphere's box centre matches the detected box centre (a few fixed-point steps on
+  the ball-centre plane; the box centre is robust to boxes that are uniformly a bit too tight or loose).
+* ``contact``: the detector's predicted contact point (ball-cloth) mapped through the cloth homography;
+  balls without a prediction fall back to ``sphere``.
+* ``linear``: the paper's heuristic baseline. The point between the box centre and the top of the box,
+  at the fraction ``tilt / 90 deg`` (camera tilt from the recovered camera), is mapped through the
+  homography of the diamonds (rail-cap height).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from enum import StrEnum
+
+import numpy as np
+
+from pix2pockets.geometry.camera import PinholeCamera
+from pix2pockets.geometry.homography import apply_homography, camera_tilt
+from pix2pockets.geometry.raster import table_to_env_pixels
+from pix2pockets.geometry.table import TableSpec
+from pix2pockets.state.ball import Ball
+from pix2pockets.state.layout import TableLayout
+from pix2pockets.vision.classes import ball_class_of
+from pix2pockets.vision.detect.detections import Detections
+from pix2pockets.vision.table.fit import diamond_height
+
+
+class LocateMethod(StrEnum):
+    SPHERE = "sphere"
+    CONTACT = "contact"
+    LINEAR = "linear"
+
+
+def sphere_boxes(camera: PinholeCamera, centres: np.ndarray, radius: float) -> np.ndarray:
+    """Bounding boxes [px] ``x1, y1, x2, y2`` of the images of spheres, (n, 4).
+
+    Args:
+        camera: the camera.
+        centres: sphere centres in the table frame (n, 3) [m].
+        radius: sphere radius [m].
+    """
+    C = camera.world_to_camera(np.asarray(centres, dtype=float).reshape(-1, 3))
+    K = camera.K
+    # dual conic of the silhouette: K (C C^T - R^2 I) K^T, per sphere
+    Q = C[:, :, None] * C[:, None, :] - radius**2 * np.eye(3)[None]
+    D = K[None] @ Q @ K.T[None]
+    out = np.empty((len(C), 4))
+    for axis in (0, 1):
+        a, b, c = D[:, axis, axis], D[:, axis, 2], D[:, 2, 2]
+        disc = np.sqrt(np.clip(b * b - a * c, 0.0, None))
+        lo, hi = (b - disc) / c, (b + disc) / c
+        out[:, axis] = np.minimum(lo, hi)
+        out[:, axis + 2] = np.maximum(lo, hi)
+    return out
+
+
+def _box_centres(boxes: np.ndarray) -> np.ndarray:
+    return (boxes[:, :2] + boxes[:, 2:]) / 2
+
+
+def locate_sphere(
+    camera: PinholeCamera, boxes: np.ndarray, radius: float, iterations: int = 6, border_px: float = 1.0
+) -> np.ndarray:
+    """Table centres [m] (n, 2) of balls whose silhouette boxes best match ``boxes`` (n, 4) [px].
+
+    A box cut by the image border keeps only its inner edge on that axis: the centre used is that edge
+    minus half the predicted silhouette size (boxes touching both borders of an axis use the centre).
+    """
+    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
+    if len(boxes) == 0:
+        return np.zeros((0, 2))
+    w, h = camera.image_size
+    lo_cut = boxes[:, :2] <= border_px
+    hi_cut = boxes[:, 2:] >= np.array([w, h]) - border_px
+    only_lo, only_hi = lo_cut & ~hi_cut, hi_cut & ~lo_cut
+    Hinv = np.linalg.inv(camera.table_homography(radius))
+    xy = apply_homography(Hinv, _box_centres(boxes))
+    for _ in range(iterations):
+        pred = sphere_boxes(camera, np.column_stack([xy, np.full(len(xy), radius)]), radius)
+        half = (pred[:, 2:] - pred[:, :2]) / 2
+        centre = _box_centres(boxes)
+        centre = np.where(only_lo, boxes[:, 2:] - half, centre)
+        centre = np.where(only_hi, boxes[:, :2] + half, centre)
+        xy = xy + apply_homography(Hinv, centre) - apply_homography(Hinv, _box_centres(pred))
+    return xy
+
+
+def locate_contact(camera: PinholeCamera, contact_px: np.ndarray) -> np.ndarray:
+    """Table points [m] (n, 2) of ball-cloth contact points [px] (n, 2)."""
+    return apply_homography(np.linalg.inv(camera.table_homography(0.0)), np.asarray(contact_px, dtype=float))
+
+
+def locate_linear(
+    camera: PinholeCamera, boxes: np.ndarray, spec: TableSpec, diamond_z: float | None = None
+) -> np.ndarray:
+    """The paper's heuristic: a point between box centre and box top, by camera tilt, through the
+    rail-cap (diamond) homography. ``diamond_z`` is that plane's height above the cloth [m] (default: the
+    table spec's; pass the measured one, :attr:`TableFit.diamond_z`). Returns table points [m] (n, 2)."""
+    z = diamond_height(spec) if diamond_z is None else float(diamond_z)
+    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
+    frac = camera_tilt(camera) / (np.pi / 2)
+    centre = _box_centres(boxes)
+    top = np.column_stack([centre[:, 0], boxes[:, 1]])
+    point = centre + frac * (top - centre)
+    return apply_homography(np.linalg.inv(camera.table_homography(z)), point)
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class LocatedBalls:
+    """Balls located on the table.
+
+    Attributes:
+        detections: the ball detections kept (on the table, not in a pocket), in the same order as
+            ``positions``.
+        positions: ball centres in the table frame (n, 2) [m].
+        contact_px: the contact points of the located balls projected back into the image (n, 2) [px].
+        dropped: number of ball detections dropped (off the table or in a pocket).
+    """
+
+    detections: Detections
+    positions: np.ndarray
+    contact_px: np.ndarray
+    dropped: int
+
+    @property
+    def env_positions(self) -> np.ndarray:
+        """Positions in the paper's environment pixels (n, 2)."""
+        return table_to_env_pixels(self.positions)
+
+    def to_layout(self, spec: TableSpec) -> TableLayout:
+        """A :class:`TableLayout` (classes only; ball numbers unknown), overlaps pushed apart."""
+        balls = tuple(Ball(ball_class_of(int(c))) for c in self.detections.class_id)
+        pos = settle_positions(self.positions, spec)
+        return TableLayout(balls, pos, spec)
+
+
+def locate_balls(
+    camera: PinholeCamera,
+    detections: Detections,
+    spec: TableSpec | None = None,
+    method: LocateMethod | str = LocateMethod.SPHERE,
+    off_table_margin: float = 0.03,
+    diamond_z: float | None = None,
+    same_ball_distance: float | None = None,
+) -> LocatedBalls:
+    """Map each ball detection to its table centre; drop balls off the table, in pockets, or seen twice.
+
+    Args:
+        camera: the recovered camera.
+        detections: detections (diamonds are ignored).
+        spec: the table.
+        method: ``sphere``, ``contact`` or ``linear``.
+        off_table_margin: balls further than this outside the legal centre region [m] are dropped (the
+            rest are clamped onto it).
+        diamond_z: height of the diamond plane the camera was fitted to [m] (``linear`` only; default the
+            spec's).
+        same_ball_distance: two detections whose table centres are closer than this [m] are one ball seen
+            twice (two balls cannot be closer than a diameter); the less confident is dropped. Default: one
+            ball radius, well above the location error and well below the gap of touching balls.
+    """
+    spec = spec or TableSpec()
+    method = LocateMethod(method)
+    det = detections[detections.is_ball]
+    R = spec.ball_radius
+    if method is LocateMethod.LINEAR:
+        xy = locate_linear(camera, det.boxes, spec, diamond_z)
+    else:
+        xy = locate_sphere(camera, det.boxes, R)
+        if method is LocateMethod.CONTACT:
+            has = np.all(np.isfinite(det.contact), axis=1)
+            if has.any():
+                xy[has] = locate_contact(camera, det.contact[has])
+    finite = np.all(np.isfinite(xy), axis=1)
+    on_table = finite & spec.contains(np.where(finite[:, None], xy, -1e9), margin=R - off_table_margin)
+    pockets = spec.pocket_centres
+    radii = np.array([p.capture_radius for p in spec.pockets])
+    dist = np.linalg.norm(np.where(finite[:, None], xy, 1e9)[:, None, :] - pockets[None], axis=-1)
+    in_pocket = np.any(dist < radii[None], axis=1)
+    keep = on_table & ~in_pocket
+    keep[keep] = ~seen_twice(xy[keep], det.confidence[keep], R if same_ball_distance is None else same_ball_distance)
+    xy = xy[keep]
+    xy = (
+        np.column_stack([np.clip(xy[:, 0], R, spec.length - R), np.clip(xy[:, 1], R, spec.width - R)])
+        if len(xy)
+        else np.zeros((0, 2))
+    )
+    contact = camera.project_table(xy, 0.0) if len(xy) else np.zeros((0, 2))
+    return LocatedBalls(det[keep], xy, contact, int((~keep).sum()))
+
+
+def seen_twice(positions: np.ndarray, confidence: np.ndarray, min_distance: float) -> np.ndarray:
+    """Mask of the detections that repeat a more confident one: centre closer than ``min_distance`` [m]."""
+    pos = np.asarray(positions, dtype=float).reshape(-1, 2)
+    repeat = np.zeros(len(pos), dtype=bool)
+    kept: list[int] = []
+    for i in np.argsort(-np.asarray(confidence, dtype=float), kind="stable"):
+        if kept and np.min(np.linalg.norm(pos[kept] - pos[i], axis=1)) < min_distance:
+            repeat[i] = True
+        else:
+            kept.append(int(i))
+    return repeat
+
+
+def settle_positions(positions: np.ndarray, spec: TableSpec, iterations: int = 50) -> np.ndarray:
+    """Push overlapping ball centres apart (small location errors of touching balls) and keep them on
+    the playing surface. Returns positions (n, 2) [m]."""
+    pos = np.array(positions, dtype=float).reshape(-1, 2)
+    R = spec.ball_radius
+    need = 2 * R + 1e-5
+    for _ in range(iterations):
+        moved = False
+        for i in range(len(pos)):
+            for j in range(i + 1, len(pos)):
+                d = pos[j] - pos[i]
+                n = float(np.hypot(*d))
+                if n < need:
+                    direction = d / n if n > 1e-12 else np.array([1.0, 0.0])
+                    push = (need - n) / 2 + 1e-7
+                    pos[i] -= direction * push
+                    pos[j] += direction * push
+                    moved = True
+        pos[:, 0] = np.clip(pos[:, 0], R, spec.length - R)
+        pos[:, 1] = np.clip(pos[:, 1], R, spec.width - R)
+        if not moved:
+            break
+    return pos

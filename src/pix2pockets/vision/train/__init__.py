@@ -1,0 +1,1 @@
+"""Training of the detector and the crop models (needs the ``train`` extra: torch, onnx)."""
