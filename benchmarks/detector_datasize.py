@@ -20,7 +20,7 @@ from pathlib import Path
 
 from pix2pockets.vision.detect.onnx_detector import OnnxDetector, OnnxDetectorConfig
 from pix2pockets.vision.metrics.evaluation import EvalOptions, evaluate_detector
-from pix2pockets.vision.train.trainer import TrainConfig, train
+from pix2pockets.vision.train.detector import TrainConfig, train
 
 
 def main() -> None:

@@ -67,8 +67,8 @@ def main() -> None:
 
     det = OnnxDetector(args.model, OnnxDetectorConfig(threads=1))
     cmap = dataset_class_map(args.data)
-    kinds = {"dot": [], "ball": []}
-    counts = {"dot": 0, "ball": 0}
+    kinds = {"diamond": [], "ball": []}
+    counts = {"diamond": 0, "ball": 0}
     for item in load_split(args.data, args.split):
         image = read_image_rgb(item.image_path)
         cls = np.array([cmap.get(int(c), -1) for c in item.class_id])
@@ -77,7 +77,7 @@ def main() -> None:
         balls = det.detect_balls(image)
         ball_boxes = balls.boxes[balls.confidence >= args.conf]
         for kind, gt, pred in (
-            ("dot", item.boxes[cls == DIAMOND_ID], diamonds),
+            ("diamond", item.boxes[cls == DIAMOND_ID], diamonds),
             ("ball", item.boxes[np.isin(cls, BALL_IDS)], ball_boxes),
         ):
             counts[kind] += len(gt)

@@ -1,8 +1,8 @@
 """Photo -> suggestion time at 1280x720 on this machine, per stage, plus the cold model load.
 
 Uses the real detector (bundled ONNX model) and the default planner when they are present in this build;
-otherwise the missing part is replaced by the test stand-ins (exact labels / a nearest-pocket planner) and
-the table says so. The photo is the bundled example (1280x720) unless ``--image`` is given.
+otherwise the missing part is replaced by the stand-ins of ``pix2pockets.testing`` (exact labels / a
+nearest-pocket planner) and the table says so. The photo is the bundled example (1280x720) unless ``--image`` is given.
 
 Usage:
     PYTHONPATH=src:. python benchmarks/pipeline.py --json OUT.json [--runs 5] [--image PHOTO]

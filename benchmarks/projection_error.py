@@ -216,7 +216,7 @@ def summarise(truth_err: dict, v2v: dict, meta: dict) -> dict:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sets", type=int, default=25, help="number of layouts (3 views each)")
-    parser.add_argument("--noise", type=float, default=0.5, help="pixel noise (std) on box edges and dots")
+    parser.add_argument("--noise", type=float, default=0.5, help="pixel noise (std) on box edges and diamonds")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--rendered", type=int, default=0, help="use N rendered multi-view sets instead")
     parser.add_argument(

@@ -3,7 +3,7 @@
 Reports the request's wall time, the pipeline's own time (``timings_s.total``, as in ``benchmarks/pipeline.py``)
 and the rest (multipart parsing, decoding, the result picture, PNG and base64 encoding, JSON): the cost of
 the web layer. Uses the bundled detector and the default planner when this build has them, otherwise the
-test stand-ins (exact labels of the example photo / a nearest-pocket planner), and says so.
+stand-ins of ``pix2pockets.testing`` (exact labels of the example photo / a nearest-pocket planner), and says so.
 
 Usage:
     PYTHONPATH=src:. python benchmarks/web.py --json OUT.json [--runs 5]

@@ -226,11 +226,11 @@ def do_plot(args: argparse.Namespace) -> None:
 
 
 def do_speeds(args: argparse.Namespace) -> None:
-    """Training throughput of each run, from its ``sessions.jsonl`` (all sessions together)."""
+    """Training throughput of each run, from its training log (every resumed part of a run together)."""
     print("| run | steps | wall [s] | steps/s |")
     print("|---|---|---|---|")
     for run in select(args):
-        path = Path(args.root) / run.name / "sessions.jsonl"
+        path = Path(args.root) / run.name / "stints.jsonl"
         if not path.exists():
             continue
         rows = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]

@@ -7,8 +7,8 @@ Usage:
     PYTHONPATH=src python scripts/web_screenshot.py --out docs/images/web-page.png
     PYTHONPATH=src python scripts/web_screenshot.py --standins --out shot.png   # no model needed
 
-``--standins`` serves the bundled example photo with a detector that returns its exact labels and the tests'
-nearest-pocket planner, for builds without the detector model or planner.
+``--standins`` serves the bundled example photo with a detector that returns its exact labels and the
+nearest-pocket planner of ``pix2pockets.testing``, for builds without the detector model or planner.
 """
 
 from __future__ import annotations
@@ -63,13 +63,13 @@ class Chromium:
         os.close(res_w)
         self.buf = b""
         self.last_id = 0
-        self.session: str | None = None
+        self.attached: str | None = None  # the DevTools id of the page this browser drives
 
     def call(self, method: str, **params):
         self.last_id += 1
         msg = {"id": self.last_id, "method": method, "params": params}
-        if self.session and not method.startswith("Target."):
-            msg["sessionId"] = self.session
+        if self.attached and not method.startswith("Target."):
+            msg["sessionId"] = self.attached
         os.write(self.cmd_w, json.dumps(msg).encode() + b"\0")
         while True:
             while b"\0" not in self.buf:
@@ -103,7 +103,7 @@ def screenshot(app, out: str, binary: str, port: int, width: int, timeout: float
 
     try:
         page = next(t for t in browser.call("Target.getTargets")["targetInfos"] if t["type"] == "page")
-        browser.session = browser.call("Target.attachToTarget", targetId=page["targetId"], flatten=True)["sessionId"]
+        browser.attached = browser.call("Target.attachToTarget", targetId=page["targetId"], flatten=True)["sessionId"]
         resize(1000)
         browser.call("Page.navigate", url=f"http://127.0.0.1:{port}/")
         t0 = time.time()

@@ -91,8 +91,8 @@ def test_resume_continues_and_appends(env_id, tmp_path):
     path = train(TrainConfig("ppo", env_id, steps=256, seed=0, out=str(out), **kw), resume=True)
     assert read_meta(path).steps == 256
     assert len((out / "monitor.csv").read_text().splitlines()) > rows
-    sessions = [json.loads(line) for line in (out / "sessions.jsonl").read_text().splitlines()]
-    assert [s["steps_before"] for s in sessions] == [0, 128]
+    stints = [json.loads(line) for line in (out / "stints.jsonl").read_text().splitlines()]
+    assert [s["steps_before"] for s in stints] == [0, 128]
 
 
 def test_random_baseline_is_seeded(env_id):

@@ -23,7 +23,7 @@ def add_model_options(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--diamond-refiner",
         default=None,
-        help="diamond refiner ONNX re-reading each diamond's box and score from full-resolution crops (default: the "
+        help="diamond refiner ONNX re-reading each diamond's box from full-resolution crops (default: the "
         "bundled one; 'none': the detector's own diamond boxes)",
     )
     parser.add_argument(

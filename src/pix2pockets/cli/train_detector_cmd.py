@@ -78,8 +78,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     try:
-        from pix2pockets.vision.train.targets import AugmentConfig
-        from pix2pockets.vision.train.trainer import TrainConfig, train
+        from pix2pockets.vision.train.detector import TrainConfig, train
+        from pix2pockets.vision.train.detector_targets import AugmentConfig
     except ImportError as err:
         raise ValueError(f"train-detector needs torch (pip install 'pix2pockets[train]'): {err}") from err
 
@@ -118,7 +118,7 @@ def run(args: argparse.Namespace) -> int:
 def _export_only(args: argparse.Namespace) -> int:
     """Write OUT/detector.onnx without training: from OUT/last.pt, from the weights of ``--init X.onnx``, or (with
     ``--int8``) keep an existing one; then quantise it when asked."""
-    from pix2pockets.vision.train.trainer import CHECKPOINT, ONNX_NAME, export_checkpoint, reexport_onnx
+    from pix2pockets.vision.train.detector import CHECKPOINT, ONNX_NAME, export_checkpoint, reexport_onnx
 
     ckpt, onnx_path = Path(args.out) / CHECKPOINT, Path(args.out) / ONNX_NAME
     if ckpt.exists():

@@ -15,7 +15,6 @@ its hitpoints are the directions to each pocket's mouth (``mirror`` adds one-cus
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from enum import StrEnum
 
@@ -100,8 +99,3 @@ def direction_mask(angles: np.ndarray, n_angles: int, width: int = 0) -> np.ndar
 def full_mask(direction: np.ndarray, n_powers: int) -> np.ndarray:
     """The flat MultiDiscrete mask: direction bins then all power levels."""
     return np.concatenate([direction, np.ones(n_powers, dtype=bool)])
-
-
-def angle_step(n_angles: int) -> float:
-    """Width of one direction bin [rad]."""
-    return 2 * math.pi / n_angles

@@ -38,7 +38,7 @@ SURE_BALL_SCORE = 0.45
 """A ball whose "any ball" score (``Detections.ball_score``) reaches this is kept whatever its class scores: on real
 photos the detector's class heads and the ball classifier often disagree about a ball (a real 8 the classifier is
 sure of, the black head not), and their joint class score then falls under :data:`MIN_CONFIDENCE` although the ball
-is plainly there (``docs/benchmarks-detector.md``, twentieth session)."""
+is plainly there (``docs/benchmarks-detector.md``)."""
 
 
 @functools.lru_cache(maxsize=1)

@@ -17,10 +17,7 @@ import math
 import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
-from pix2pockets.planner.base import legal_targets
-from pix2pockets.planner.hitpoints import Hitpoint, ShotKind, find_hitpoints
-from pix2pockets.rules import GameState
-from pix2pockets.state import TableLayout
+from pix2pockets.planner.hitpoints import Hitpoint, ShotKind
 
 KIND_FACTOR: dict[ShotKind, float] = {ShotKind.DIRECT: 1.0, ShotKind.BANK: 0.6, ShotKind.KICK: 0.5}
 """Extra discount for cushion shots: the ideal-reflection model is only approximate."""
@@ -43,25 +40,6 @@ def pot_probability(hp: Hitpoint, radius: float, sigma: float, distance_sigma: f
     s_obj = math.hypot(s_obj, sigma, distance_sigma * hp.object_distance)
     p = math.erf(0.5 * hp.clear_window / (s_obj * math.sqrt(2.0)))
     return p * KIND_FACTOR[hp.kind]
-
-
-def position_value(
-    layout: TableLayout,
-    state: GameState,
-    sigma: float,
-    kinds: tuple[ShotKind, ...] = (ShotKind.DIRECT,),
-) -> float:
-    """Best next-shot pot probability from ``layout`` (1 when nothing is left to pot, 0 without a cue ball)."""
-    if layout.cue_index is None:
-        return 0.0
-    targets = legal_targets(layout, state)
-    if not targets:
-        return 1.0
-    r = layout.spec.ball_radius
-    best = 0.0
-    for hp in find_hitpoints(layout, targets, kinds=kinds):
-        best = max(best, pot_probability(hp, r, sigma))
-    return best
 
 
 def direct_pot_probabilities(

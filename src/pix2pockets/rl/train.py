@@ -8,7 +8,8 @@ A run directory holds:
 - ``checkpoint.zip``: the latest model every ``checkpoint_every`` steps (no replay buffer: off-policy runs
   resume with an empty buffer, which refills within ``learning_starts`` + a few thousand steps),
 - ``model.zip``: the final agent (an agent file, see :mod:`pix2pockets.rl.bundle`),
-- ``sessions.jsonl``: one line per training session with its steps and wall time (steps/s).
+- ``stints.jsonl``: one line per call of :func:`train` on the run (the first and each resume) with its steps and
+  wall time (steps/s).
 """
 
 from __future__ import annotations
@@ -26,7 +27,7 @@ from pix2pockets.rl.envs import EPISODE_KEYS, EnvChoice, make_env
 CHECKPOINT = "checkpoint.zip"
 FINAL = "model.zip"
 CONFIG = "config.json"
-SESSIONS = "sessions.jsonl"
+STINTS = "stints.jsonl"
 # Only these config fields must match when resuming (steps may grow, progress / checkpointing may change).
 _RESUME_KEYS = ("algo", "env", "mask", "max_power", "seed", "overrides")
 
@@ -159,7 +160,7 @@ def train(config: TrainConfig, resume: bool = False) -> Path:
     else:
         model = build_model(config.algo, env, config.seed, tensorboard_log=config.tensorboard, **config.overrides)
     done = int(model.num_timesteps)
-    # Fresh layouts after a resume instead of replaying the first session's sequence.
+    # Fresh layouts after a resume instead of replaying the first stint's sequence.
     env.seed(config.seed + done)
     remaining = config.steps - done
     start = time.perf_counter()
@@ -175,8 +176,8 @@ def train(config: TrainConfig, resume: bool = False) -> Path:
     save_agent(model, config, out / CHECKPOINT)
     save_agent(model, config, out / FINAL)
     env.close()
-    session = {"steps_before": done, "steps": trained, "wall_s": round(wall, 2)}
-    session["steps_per_s"] = round(trained / wall, 2) if wall > 0 and trained else None
-    with (out / SESSIONS).open("a") as fh:
-        fh.write(json.dumps(session) + "\n")
+    stint = {"steps_before": done, "steps": trained, "wall_s": round(wall, 2)}
+    stint["steps_per_s"] = round(trained / wall, 2) if wall > 0 and trained else None
+    with (out / STINTS).open("a") as fh:
+        fh.write(json.dumps(stint) + "\n")
     return out / FINAL

@@ -50,33 +50,6 @@ def _shaded_fill(img: np.ndarray, mask_u8: np.ndarray, colour: np.ndarray, rng: 
     img[ys, xs] = np.clip(colour[None, :] * (shade * noise)[:, None], 0, 1)
 
 
-def draw_person(img: np.ndarray, mask: np.ndarray, rng: np.random.Generator) -> None:
-    """A player's torso and head (or a bystander) entering from an image border, out of focus."""
-    h, w = mask.shape
-    p, n = _edge_point(rng, w, h)
-    scale = rng.uniform(0.25, 0.7) * h
-    centre = p + n * scale * rng.uniform(0.2, 0.6)
-    m = np.zeros((h, w), np.uint8)
-    ang = math.degrees(math.atan2(n[1], n[0])) + rng.normal(0, 20)
-    cv2.ellipse(m, (int(centre[0]), int(centre[1])), (int(scale * 0.6), int(scale * 0.35)), ang, 0, 360, 255, -1)
-    head = centre + n * scale * rng.uniform(0.45, 0.7) + rng.normal(0, 0.1 * scale, 2)
-    cv2.circle(m, (int(head[0]), int(head[1])), int(scale * rng.uniform(0.13, 0.2)), 255, -1)
-    m_head = np.zeros_like(m)
-    cv2.circle(m_head, (int(head[0]), int(head[1])), int(scale * 0.18), 255, -1)
-    shirt = rng.uniform(0.02, 0.85, 3) ** rng.uniform(1.0, 2.5)
-    _shaded_fill(img, m, shirt, rng)
-    skin = jitter(rng, SKIN_TONES[int(rng.integers(len(SKIN_TONES)))], 0.08)
-    if rng.random() < 0.7:
-        _shaded_fill(img, m_head & m, skin, rng)
-        if rng.random() < 0.7:  # hair
-            hm = np.zeros_like(m)
-            cv2.ellipse(
-                hm, (int(head[0]), int(head[1])), (int(scale * 0.17), int(scale * 0.12)), ang + 180, 0, 180, 255, -1
-            )
-            _shaded_fill(img, hm & m, rng.uniform(0.02, 0.35, 3), rng)
-    mask |= m > 0
-
-
 def draw_arm(img: np.ndarray, mask: np.ndarray, rng: np.random.Generator, towards: np.ndarray | None) -> None:
     """A forearm (sleeve and hand) reaching in from a border toward ``towards`` (pixels)."""
     h, w = mask.shape
@@ -107,57 +80,6 @@ def draw_arm(img: np.ndarray, mask: np.ndarray, rng: np.random.Generator, toward
                 math.degrees(math.atan2(d[1], d[0])), 0, 360, 255, -1)  # fmt: skip
     _shaded_fill(img, hand, skin, rng)
     mask |= (m > 0) | (hand > 0)
-
-
-def draw_cue_stick(
-    img: np.ndarray, mask: np.ndarray, rng: np.random.Generator, cam: PinholeCamera, tip_xy: np.ndarray
-) -> None:
-    """A cue stick in 3-D: tip near table point ``tip_xy`` [m], butt raised and 1.45 m back, projected."""
-    a = rng.uniform(0, 2 * math.pi)
-    dirn = np.array([math.cos(a), math.sin(a)])
-    tip = np.array([*(tip_xy + dirn * rng.uniform(0.035, 0.15)), rng.uniform(0.02, 0.04)])
-    butt = np.array([*(tip[:2] + dirn * 1.45), rng.uniform(0.12, 0.35)])
-    n = 24
-    ts = np.linspace(0, 1, n)
-    pts = tip[None, :] * (1 - ts[:, None]) + butt[None, :] * ts[:, None]
-    cam_pts = cam.world_to_camera(pts)
-    ok = cam_pts[:, 2] > 0.05
-    if ok.sum() < 2:
-        return
-    pts, ts, depth = pts[ok], ts[ok], cam_pts[ok, 2]
-    uv = cam.project(pts)
-    radius_m = 0.0065 + ts * (0.0145 - 0.0065)
-    radius_px = cam.focal_px * radius_m / depth
-    wood = jitter(rng, (0.78, 0.6, 0.38), 0.15)
-    butt_col = rng.uniform(0.02, 0.4, 3) if rng.random() < 0.8 else wood * 0.5
-    m = np.zeros(mask.shape, np.uint8)
-    for i in range(len(uv) - 1):
-        seg = uv[i + 1] - uv[i]
-        norm = np.linalg.norm(seg)
-        if norm < 1e-6:
-            continue
-        perp = np.array([-seg[1], seg[0]]) / norm
-        poly = np.array(
-            [uv[i] + perp * radius_px[i], uv[i] - perp * radius_px[i], uv[i + 1] - perp * radius_px[i + 1],
-             uv[i + 1] + perp * radius_px[i + 1]]
-        )  # fmt: skip
-        if not np.all(np.isfinite(poly)) or np.abs(poly).max() > 1e5:
-            continue
-        col = wood if ts[i] < 0.55 else butt_col
-        if ts[i] < 0.012:
-            col = np.array([0.1, 0.25, 0.6])  # chalked tip
-        elif ts[i] < 0.03:
-            col = np.array([0.95, 0.95, 0.92])  # ferrule
-        seg_mask = np.zeros_like(m)
-        cv2.fillConvexPoly(seg_mask, np.round(poly).astype(np.int32), 255, lineType=cv2.LINE_8)
-        img[seg_mask > 0] = np.clip(col * rng.uniform(0.85, 1.1), 0, 1)
-        # a highlight line along the stick
-        c0, c1 = uv[i] + perp * radius_px[i] * 0.3, uv[i + 1] + perp * radius_px[i + 1] * 0.3
-        if np.all(np.isfinite([c0, c1])) and np.abs(np.concatenate([c0, c1])).max() < 1e5:
-            cv2.line(img, tuple(np.round(c0).astype(int)), tuple(np.round(c1).astype(int)),
-                     _col(np.clip(col * 1.4 + 0.1, 0, 1)), max(1, int(radius_px[i] * 0.3)))  # fmt: skip
-        m |= seg_mask
-    mask |= m > 0
 
 
 def draw_chalk(

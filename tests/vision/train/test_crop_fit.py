@@ -5,7 +5,7 @@ import pytest
 
 torch = pytest.importorskip("torch")
 
-from pix2pockets.vision.train.crop_classifier import CropNet  # noqa: E402
+from pix2pockets.vision.train.ball_classifier import CropNet  # noqa: E402
 from pix2pockets.vision.train.crop_fit import predict_crops  # noqa: E402
 
 

@@ -9,9 +9,9 @@ pytest.importorskip("onnx", reason="reading ONNX weights needs the onnx package 
 from pix2pockets.data.models import __file__ as models_init  # noqa: E402
 from pix2pockets.vision.detect.heads import N_HEAT  # noqa: E402
 from pix2pockets.vision.detect.onnx_session import open_session  # noqa: E402
-from pix2pockets.vision.train.model import CenterNet, ExportWrapper  # noqa: E402
+from pix2pockets.vision.train.detector import export_onnx  # noqa: E402
+from pix2pockets.vision.train.detector_model import CenterNet, ExportWrapper  # noqa: E402
 from pix2pockets.vision.train.onnx_import import load_onnx_into  # noqa: E402
-from pix2pockets.vision.train.trainer import export_onnx  # noqa: E402
 
 
 def _images(n: int, seed: int = 0) -> torch.Tensor:

@@ -10,9 +10,9 @@ onnx = pytest.importorskip("onnx")
 import onnxruntime as ort  # noqa: E402
 
 from pix2pockets.vision.detect.heads import N_OUT  # noqa: E402
-from pix2pockets.vision.train.model import CenterNet  # noqa: E402
+from pix2pockets.vision.train.detector import export_onnx  # noqa: E402
+from pix2pockets.vision.train.detector_model import CenterNet  # noqa: E402
 from pix2pockets.vision.train.quantize import FP32_PREFIXES, fp32_nodes, quantize_detector  # noqa: E402
-from pix2pockets.vision.train.trainer import export_onnx  # noqa: E402
 
 
 def _run(path, x):

@@ -171,7 +171,7 @@ def _diamond_boxes(centre: np.ndarray, size_net: np.ndarray, scale: float) -> np
     well, but 3.5 px in a 1080p frame (0.53), from which it does not recover. Beyond
     :data:`DIAMOND_SHORT_READ_MAX_PX` that shortfall is made up: in full from :data:`DIAMOND_FULL_SCALE_FROM_PX` up,
     by :data:`DIAMOND_FLOOR_SHARE` at the floor, linearly between. Frames of 720p or smaller are unchanged.
-    Twenty-first session: 1080p validation diamond AP50 82.9 -> 93.3 (``docs/benchmarks-detector.md``).
+    On 1080p validation renders this lifts diamond AP50 from 82.9 to 93.3 (``docs/benchmarks-detector.md``).
     """
     size = MIN_DIAMOND_BOX_PX + np.maximum(size_net - MIN_DIAMOND_BOX_PX, 0.0) / scale
     shortfall = max(MIN_DIAMOND_BOX_PX * (1.0 / scale - 1.0) - DIAMOND_SHORT_READ_MAX_PX, 0.0)

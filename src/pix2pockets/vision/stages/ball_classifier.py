@@ -27,8 +27,7 @@ IN_VIEW_ABSENT_ODDS = 0.5
 """Weight of "this table's cue ball (or 8) is not in the photo" in the raw scores' at-most-one weighing
 (:func:`~pix2pockets.vision.detect.postprocess.at_most_one_posterior`): in a photo of a game both are nearly always
 there. Chosen on fresh validation renders (seeds 171-173); 0.5 against 1 lifts cue AP50 before and after the
-paper's post-processing on the validation and test renders (``docs/benchmarks-detector.md``, fifteenth
-session)."""
+paper's post-processing on the validation and test renders (``docs/benchmarks-detector.md``)."""
 
 
 class BallClassifier(CropModel):

@@ -35,8 +35,10 @@ from pix2pockets.vision.table.errors import TableFitError
 
 WORK_SIDE = 192
 """Longer side of the shrunk photo the region is found on [px]."""
-SEED_MODES = 4
-"""Chroma modes of the photo tried as cloth colours."""
+SEED_GRID = 12
+"""The photo is cut into this many cells across and down; the colours of uniform cells seed the cloth."""
+SEED_MODES = 5
+"""Most colours of grid cells tried as the cloth's."""
 TOLERANCES = (1.0, 1.5, 2.2, 3.2)
 """Ladder of colour tolerances (multiples of the seed's spread) tried for each seed colour."""
 L_SPREAD, C_SPREAD = 9.0, 5.0
@@ -179,38 +181,41 @@ def _histogram_modes(values: np.ndarray, lo: float, hi: float, bins: int, count:
 
 
 def _seed_colours(lab: np.ndarray, ball_boxes: np.ndarray) -> list[np.ndarray]:
-    """Candidate cloth colours (Lab): the cloth around the balls, the middle of the photo, the largest chroma modes
-    of the photo and, for its near-grey pixels, the largest lightness modes."""
+    """Candidate cloth colours (Lab), most likely first: the cloth around the balls, then the colours of the
+    uniform cells of a :data:`SEED_GRID` grid over the photo, most common first."""
     h, w = lab.shape[:2]
     seeds: list[np.ndarray] = []
     if len(ball_boxes) >= 2:
         ring = _ring_pixels(lab, ball_boxes)
         if len(ring) >= 20:
             seeds.append(np.median(ring, axis=0))
-    centre = lab[h // 3 : 2 * h // 3, w // 3 : 2 * w // 3].reshape(-1, 3)
-    seeds.append(np.median(centre, axis=0))
-    flat = lab.reshape(-1, 3)
-    chroma = np.hypot(flat[:, 1], flat[:, 2])
-    coloured = flat[chroma >= 10]
-    if len(coloured) >= 20:
-        hist, ea, eb = np.histogram2d(coloured[:, 1], coloured[:, 2], bins=24, range=[[-96, 96], [-96, 96]])
-        hist = cv2.GaussianBlur(hist.astype(np.float32), (3, 3), 0.8)
-        for _ in range(SEED_MODES):
-            i, j = np.unravel_index(int(np.argmax(hist)), hist.shape)
-            if hist[i, j] < 0.01 * len(flat):
-                break
-            a0, b0 = (ea[i] + ea[i + 1]) / 2, (eb[j] + eb[j + 1]) / 2
-            near = coloured[(np.abs(coloured[:, 1] - a0) < 8) & (np.abs(coloured[:, 2] - b0) < 8)]
-            if len(near) >= 20:
-                seeds.append(np.median(near, axis=0))
-            hist[max(i - 2, 0) : i + 3, max(j - 2, 0) : j + 3] = 0
-    grey = flat[chroma < 10]
-    for light in _histogram_modes(grey[:, 0], 0.0, 100.0, 20, 2, 0.05) if len(grey) >= 20 else []:
-        near = grey[np.abs(grey[:, 0] - light) < 5]
-        seeds.append(np.median(near, axis=0))
+    n = SEED_GRID
+    mean = cv2.resize(lab, (n, n), interpolation=cv2.INTER_AREA).reshape(-1, 3)
+    square = cv2.resize(lab * lab, (n, n), interpolation=cv2.INTER_AREA).reshape(-1, 3)
+    std = np.sqrt(np.clip(square - mean * mean, 0.0, None))
+    uniform = (std[:, 0] < 8.0) & (np.hypot(std[:, 1], std[:, 2]) < 6.0)
+    cells_arr = mean[uniform]
+    # group similar cells; the biggest groups first
+    left = np.ones(len(cells_arr), dtype=bool)
+    groups = []
+    while left.any():
+        i = int(np.flatnonzero(left)[0])
+        l_spread, c_spread = _spreads(cells_arr[i])
+        d = np.abs(cells_arr[:, 0] - cells_arr[i, 0]) / l_spread + np.hypot(
+            cells_arr[:, 1] - cells_arr[i, 1], cells_arr[:, 2] - cells_arr[i, 2]
+        ) / c_spread
+        member = left & (d < 1.5)
+        groups.append((int(member.sum()), np.median(cells_arr[member], axis=0)))
+        left &= ~member
+    groups.sort(key=lambda g: -g[0])
+    seeds += [g[1] for g in groups][:SEED_MODES]
     unique: list[np.ndarray] = []
     for seed in seeds:
-        if all(np.abs(seed - u).max() > 5.0 for u in unique):
+        l_spread, c_spread = _spreads(seed)
+        if all(
+            abs(seed[0] - u[0]) / l_spread + math.hypot(seed[1] - u[1], seed[2] - u[2]) / c_spread > 0.7
+            for u in unique
+        ):
             unique.append(seed.astype(np.float32))
     return unique
 
@@ -269,7 +274,7 @@ def _score_component(
     real = contour[~_on_border(contour, size)]
     if len(real) < 20:
         return 0.0, None
-    scale = math.sqrt(q_area)
+    band = max(1.5, 0.025 * math.sqrt(q_area))
     dist = np.full(len(real), np.inf)
     seen = 0
     for k in range(4):
@@ -282,13 +287,13 @@ def _score_component(
         t = (real - a) @ (b - a) / length**2
         d = np.where((t > -0.02) & (t < 1.02), d, np.inf)
         dist = np.minimum(dist, d)
-        near = t[d < 0.02 * scale]
+        near = t[d < band]
         seen += int(len(np.unique(np.clip((near * 20).astype(int), 0, 19))) >= 7)
-    if seen < MIN_SIDES:
+    if seen < 2:
         return 0.0, quad
-    straight = float(np.mean(dist < 0.02 * scale))
+    straight = float(np.mean(dist < band))
     frac = area / (w * h)
-    score = fill**2 * straight**2 * min(frac / 0.15, 1.0) ** 0.5 * (0.6 + 0.1 * seen)
+    score = fill**2 * straight**2 * min(frac / 0.15, 1.0) ** 0.5 * (0.4 + 0.15 * seen)
     if len(balls) >= 2:
         inside = qmask[np.clip(balls[:, 1].astype(int), 0, h - 1), np.clip(balls[:, 0].astype(int), 0, w - 1)]
         score *= 0.25 + 0.75 * float(np.mean(inside))
@@ -333,6 +338,9 @@ def _candidates(lab: np.ndarray, ball_boxes: np.ndarray) -> list[_Candidate]:
                     continue
                 comp = (labels == lab_id).astype(np.uint8)
                 filled, contour = _filled(comp)
+                hull_area = cv2.contourArea(cv2.convexHull(contour.astype(np.float32)))
+                if filled.sum() < 0.7 * hull_area:  # far from convex: not a cloth seen whole
+                    continue
                 score, quad = _score_component(filled, contour, balls, (w, h))
                 if score > 0 and quad is not None:
                     out.append(_Candidate(score, filled, quad, colour, tol))
@@ -340,9 +348,20 @@ def _candidates(lab: np.ndarray, ball_boxes: np.ndarray) -> list[_Candidate]:
 
 
 # ----------------------------------------------------------------------------- lines
-def _robust_line(points: np.ndarray, tol: float, iterations: int = 3) -> tuple[np.ndarray, np.ndarray] | None:
+def _robust_line(
+    points: np.ndarray,
+    tol: float,
+    bound: np.ndarray | None = None,
+    inner: np.ndarray | None = None,
+    iterations: int = 3,
+) -> tuple[np.ndarray, np.ndarray] | None:
     """A line through the longest straight run of ``points`` (n, 2): deterministic RANSAC over pairs of points
-    spread along the set, then least squares on the inliers. Returns (line, inlier mask) or None."""
+    spread along the set, then least squares on the inliers. Returns (line, inlier mask) or None.
+
+    With ``bound`` (m, 2) and ``inner`` (2,), the line must bound the region: each point of ``bound`` beyond the
+    line (on the side away from ``inner``) costs three inliers, so a line along a player's arm that crosses the
+    cloth loses to the cushion's shorter runs.
+    """
     n = len(points)
     if n < 6:
         return None
@@ -354,11 +373,15 @@ def _robust_line(points: np.ndarray, tol: float, iterations: int = 3) -> tuple[n
     keep = length >= 4 * tol
     if not keep.any():
         return None
-    i, j, d, length = i[keep], j[keep], d[keep], length[keep]
+    i, d, length = i[keep], d[keep], length[keep]
     normals = np.column_stack([-d[:, 1], d[:, 0]]) / length[:, None]
     offsets = -np.sum(normals * picks[i], axis=1)
-    counts = np.sum(np.abs(points @ normals.T + offsets) < tol, axis=0)
-    best = int(np.argmax(counts))
+    score = np.sum(np.abs(points @ normals.T + offsets) < tol, axis=0).astype(float)
+    if bound is not None and inner is not None and len(bound):
+        side = np.sign(inner @ normals.T + offsets)  # the inner side's sign for each line
+        beyond = (bound @ normals.T + offsets) * -side > 2 * tol
+        score -= 3.0 * beyond.sum(axis=0)
+    best = int(np.argmax(score))
     line = np.array([normals[best, 0], normals[best, 1], offsets[best]])
     inliers = np.abs(points @ line[:2] + line[2]) < tol
     for _ in range(iterations):
@@ -387,7 +410,7 @@ def _side_lines(contour: np.ndarray, quad: np.ndarray, size: tuple[int, int]) ->
         d = np.abs(real @ line[:2] + line[2])
         t = (real - a) @ (b - a) / length**2
         near = real[(d < band) & (t > 0.03) & (t < 0.97)]
-        fitted = _robust_line(near, tol)
+        fitted = _robust_line(near, tol, contour, quad.mean(axis=0))
         if fitted is None:
             continue
         new, inliers = fitted

@@ -43,8 +43,8 @@ from pix2pockets.vision.table.rails import (
 MIN_MATCHED_DIAMONDS = 6
 """Diamonds a fitted camera must explain. Four diamonds on two rails fix a camera and a fifth leaves one point
 to check it, so such fits are hardly checked: on real phone photos three of the four fits from four or five
-diamonds drew the table in the wrong place, all thirteen from six or more in the right one (twentieth session,
-``docs/benchmarks-vision.md``). Fewer diamonds still give rail-line hypotheses; they are refused at the end."""
+diamonds drew the table in the wrong place, all thirteen from six or more in the right one
+(``docs/benchmarks-vision.md``). Fewer diamonds still give rail-line hypotheses; they are refused at the end."""
 MIN_DIAMONDS_FOR_ASPECT = 10
 """Matched diamonds a fit with a guessed export stretch (one the balls do not show) needs; else ``MIN_DIAMONDS``."""
 MAX_DIAMONDS = 40  # more candidates than this are cut by confidence (false positives)

@@ -185,17 +185,6 @@ def _hypotheses(points: np.ndarray, line_a: np.ndarray, line_b: np.ndarray, spec
                 yield diamonds, np.array([a0, a1, b0, b1])
 
 
-def label_diamonds(
-    diamonds: np.ndarray, lines: list[np.ndarray], spec: TableSpec, tol_m: float | None = None
-) -> np.ndarray:
-    """Assign each diamond a diamond index (0-17) or -1, from hypotheses on pairs of rail lines (the best one).
-
-    Raises:
-        TableFitError: when no hypothesis matches at least ``MIN_DIAMONDS`` diamonds on two rails.
-    """
-    return label_candidates(diamonds, lines, spec, tol_m)[0]
-
-
 def label_candidates(
     diamonds: np.ndarray, lines: list[np.ndarray], spec: TableSpec, tol_m: float | None = None, keep: int = 4
 ) -> list[np.ndarray]:

@@ -31,7 +31,7 @@ class DiamondCropConfig:
             detector's box is taken to read when the crop side is drawn: the detector reads a 10 px wide sight
             about 7 px wide (0.5 of the excess). Sizing training crops from the label's own box instead lets the
             refiner read a box's size off the crop's scale, and under-read slanted sights where the detector's
-            box is short (``docs/benchmarks-detector.md``, seventeenth session).
+            box is short (``docs/benchmarks-detector.md``).
         low_res: probability that a crop is re-sampled through a lower resolution.
     """
 

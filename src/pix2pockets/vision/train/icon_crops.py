@@ -3,11 +3,11 @@
 TV pool graphics show the balls left or pocketed as a row of small flat discs beside the score bar. A
 detector trained on renders reads them as balls; these crops teach the ball classifier that a flat disc
 with no shading is not a ball on the table. An icon fills the crop as a labelled ball does (the crop is
-1.5 diameters wide, ``vision.ball_crops``), with the icon kinds of a set: solid colours, stripes (a band on
+1.5 diameters wide, ``vision.stages.crops``), with the icon kinds of a set: solid colours, stripes (a band on
 white) and the cue ball, with or without a white number disc, outlined or not, sometimes greyed out
 (pocketed) and sometimes touching its neighbours in the row. The 8 is left out of the middle of a crop: a
 real 8-ball shows hardly any shading, so it too reads as a flat black disc with a white number circle, and
-a classifier taught that such a disc is no ball dropped real eights (twenty-first session).
+a classifier taught that such a disc is no ball dropped real eights.
 """
 
 from __future__ import annotations

@@ -20,7 +20,7 @@ import numpy as np
 import torch
 from torch import nn
 
-from pix2pockets.vision.train.model import CenterNet
+from pix2pockets.vision.train.detector_model import CenterNet
 from pix2pockets.vision.train.onnx_file import load_onnx_model
 
 

@@ -7,13 +7,13 @@ import pytest
 torch = pytest.importorskip("torch")
 
 from pix2pockets.vision.stages.ball_refiner import BALL_REFINE_CROP_SIZE, BallRefiner  # noqa: E402
-from pix2pockets.vision.train.ball_refiner_trainer import (  # noqa: E402
+from pix2pockets.vision.train.ball_classifier import CropNet  # noqa: E402
+from pix2pockets.vision.train.ball_refiner import (  # noqa: E402
     BallRefinerTrainConfig,
     export_ball_refiner,
 )
-from pix2pockets.vision.train.crop_classifier import CropNet  # noqa: E402
 from pix2pockets.vision.train.crop_fit import flip_rotate  # noqa: E402
-from pix2pockets.vision.train.refiner_trainer import box_loss  # noqa: E402
+from pix2pockets.vision.train.refiner import box_loss  # noqa: E402
 
 S = BALL_REFINE_CROP_SIZE
 

@@ -5,7 +5,7 @@ import pytest
 
 torch = pytest.importorskip("torch")
 
-from pix2pockets.vision.train.refiner_trainer import box_loss, centre_size_boxes, held_out_report  # noqa: E402
+from pix2pockets.vision.train.refiner import box_loss, centre_size_boxes, held_out_report  # noqa: E402
 
 
 def test_box_loss_is_the_l1_distance_in_crop_pixels():

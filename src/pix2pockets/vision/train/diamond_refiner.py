@@ -1,8 +1,8 @@
 """Train the diamond refiner (a diamond's box from a 32 px crop around a detection) and export it to ONNX.
 
-The network is the ball classifier's :class:`~pix2pockets.vision.train.crop_classifier.CropNet` with its grid
+The network is the ball classifier's :class:`~pix2pockets.vision.train.ball_classifier.CropNet` with its grid
 head (which keeps where things sit in the crop) and four outputs, trained with an L1 loss on the box
-(the run and its held-out report: :func:`~pix2pockets.vision.train.refiner_trainer.train_refiner`).
+(the run and its held-out report: :func:`~pix2pockets.vision.train.refiner.train_refiner`).
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from pix2pockets.vision.stages.diamond_refiner import (
 )
 from pix2pockets.vision.train.crop_fit import CropTrainSettings
 from pix2pockets.vision.train.diamond_data import DiamondCropConfig, collect_diamond_crops
-from pix2pockets.vision.train.refiner_trainer import (
+from pix2pockets.vision.train.refiner import (
     RefinerSpec,
     export_refiner,
     train_refiner,

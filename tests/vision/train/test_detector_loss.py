@@ -5,7 +5,7 @@ import pytest
 torch = pytest.importorskip("torch")
 
 from pix2pockets.vision.detect.heads import N_OUT  # noqa: E402
-from pix2pockets.vision.train.loss import ball_class_loss  # noqa: E402
+from pix2pockets.vision.train.detector_loss import ball_class_loss  # noqa: E402
 
 
 def _batch(label: int) -> dict:
@@ -30,7 +30,7 @@ def test_heat_mask_adds_the_off_table_diamond_cells():
 
     from pix2pockets.vision.classes import DIAMOND_ID
     from pix2pockets.vision.detect.heads import N_HEAT
-    from pix2pockets.vision.train.loss import heat_mask
+    from pix2pockets.vision.train.detector_loss import heat_mask
 
     kind = torch.ones(2, N_HEAT)
     kind[1, :5] = 0  # the second sample is a ball-only photo

@@ -21,10 +21,10 @@ import torch
 from tqdm import tqdm
 
 from pix2pockets.vision.metrics.yolo_data import LabelledImage, dataset_class_map, load_split, load_splits
-from pix2pockets.vision.train.loss import detector_loss
-from pix2pockets.vision.train.model import CenterNet, ExportWrapper
+from pix2pockets.vision.train.detector_loss import detector_loss
+from pix2pockets.vision.train.detector_model import CenterNet, ExportWrapper
+from pix2pockets.vision.train.detector_targets import AugmentConfig, Sample, make_sample
 from pix2pockets.vision.train.onnx_export import write_onnx
-from pix2pockets.vision.train.targets import AugmentConfig, Sample, make_sample
 
 CHECKPOINT = "last.pt"
 ONNX_NAME = "detector.onnx"
@@ -53,9 +53,9 @@ class TrainConfig:
         balls_repeat: draw ball-only images with repeats when ``balls_fraction`` asks for more than there are
             (each copy is augmented differently).
         checkpoint_minutes: save ``last.pt`` at least this often [min].
-        max_minutes: stop (checkpoint + export) after this much wall time in this run [min]; 0 = no limit.
+        max_minutes: stop (checkpoint + export) after this much wall time in one call [min]; 0 = no limit.
         pretrained: start the trunk from ImageNet weights.
-        init: start from the model weights of this checkpoint (``last.pt`` of an earlier run).
+        init: start from the model weights of this checkpoint (a ``last.pt``).
         augment: crop size, zoom, flips, colour and stretch of the training samples.
     """
 

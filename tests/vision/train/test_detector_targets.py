@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from pix2pockets.vision.metrics.yolo_data import LabelledImage
-from pix2pockets.vision.train.targets import AugmentConfig, make_sample
+from pix2pockets.vision.train.detector_targets import AugmentConfig, make_sample
 
 
 def _item() -> LabelledImage:
@@ -34,7 +34,7 @@ def test_ball_only_photos_have_no_ball_class():
 
 
 def test_off_table_mask_covers_cells_outside_the_widened_box():
-    from pix2pockets.vision.train.targets import off_table_mask
+    from pix2pockets.vision.train.detector_targets import off_table_mask
 
     m = off_table_mask(np.array([[40.0, 40.0, 120.0, 80.0]]), 40, margin=0.0)
     assert m.shape == (40, 40)

@@ -64,7 +64,7 @@ def heat_mask(batch: dict[str, torch.Tensor]) -> torch.Tensor:
 
 
 def detector_loss(out: torch.Tensor, batch: dict[str, torch.Tensor]) -> tuple[torch.Tensor, dict[str, float]]:
-    """Total loss and its parts for a batch; see :class:`pix2pockets.vision.train.targets.Sample`."""
+    """Total loss and its parts for a batch; see :class:`pix2pockets.vision.train.detector_targets.Sample`."""
     heat = focal_loss(out[:, :N_HEAT], batch["heat"], heat_mask(batch))
     m = batch["reg_mask"][..., None]
     n = m.sum().clamp(min=1.0)

@@ -4,7 +4,7 @@ A small VGG-style network on 32 px crops: three stages of two 3x3 convolutions (
 a head: ``"grid"`` (default) pools the 8x8 feature map to 4x4 and reads it with one linear layer, so the
 class can depend on *where* colour sits in the crop (a white disc that fills the ball's outline is the cue
 ball; a white cap inside a coloured ring is a stripe seen from its pole); ``"mean"`` averages the feature
-map over the crop first (the v2 classifier). About 80 k parameters, about 6 MFLOPs per crop.
+map over the crop first. About 80 k parameters, about 6 MFLOPs per crop.
 """
 
 from __future__ import annotations

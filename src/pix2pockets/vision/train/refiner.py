@@ -1,5 +1,5 @@
 """The training run the crop refiners share (diamond boxes, ball boxes): collect crops, train the classifier's
-:class:`~pix2pockets.vision.train.crop_classifier.CropNet` (grid head) on box targets (centre x, y, width,
+:class:`~pix2pockets.vision.train.ball_classifier.CropNet` (grid head) on box targets (centre x, y, width,
 height as fractions of the crop side) with an L1 loss, flips, quarter turns and photometric noise, report
 held-out centre errors and box IoUs in ``metrics.json``, save ``last.pt`` and export ONNX."""
 
@@ -16,7 +16,7 @@ from torch import nn
 
 from pix2pockets.vision.detect.postprocess import paired_box_iou
 from pix2pockets.vision.metrics.yolo_data import LabelledImage
-from pix2pockets.vision.train.crop_classifier import CropNet, photometric
+from pix2pockets.vision.train.ball_classifier import CropNet, photometric
 from pix2pockets.vision.train.crop_fit import RawOutputs, fit_crops, flip_rotate, labelled_sources, predict_crops
 from pix2pockets.vision.train.onnx_export import write_onnx
 

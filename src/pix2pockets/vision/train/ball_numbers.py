@@ -1,6 +1,6 @@
 """Train the ball-number reader (which of the 16 balls a crop shows) on render crops and export it to ONNX.
 
-The network is the ball classifier's (:class:`~pix2pockets.vision.train.crop_classifier.CropNet`, grid head)
+The network is the ball classifier's (:class:`~pix2pockets.vision.train.ball_classifier.CropNet`, grid head)
 with 16 outputs. At run time a ball's class is already known, so the reader only has to tell the colours of one
 group apart (:func:`pix2pockets.vision.stages.ball_numbers.assign_numbers`); ``metrics.json`` reports both the plain
 accuracy and the accuracy within the true class on the datasets' test splits.
@@ -20,7 +20,7 @@ from torch import nn
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.stages.ball_numbers import CLASS_ID_OF_NUMBER, N_NUMBERS, class_mask
 from pix2pockets.vision.stages.crops import CROP_SIZE
-from pix2pockets.vision.train.crop_classifier import CropNet, augment, export_crop_classifier
+from pix2pockets.vision.train.ball_classifier import CropNet, augment, export_crop_classifier
 from pix2pockets.vision.train.crop_data import CropConfig
 from pix2pockets.vision.train.crop_fit import CropTrainSettings, fit_crops, labelled_sources, predict_crops
 from pix2pockets.vision.train.number_data import collect_number_crops

@@ -7,7 +7,7 @@ torch = pytest.importorskip("torch")
 
 from pix2pockets.vision.stages.ball_classifier import BallClassifier  # noqa: E402
 from pix2pockets.vision.stages.crops import CROP_SIZE, crop_balls  # noqa: E402
-from pix2pockets.vision.train.crop_classifier import (  # noqa: E402
+from pix2pockets.vision.train.ball_classifier import (  # noqa: E402
     CropNet,
     CropTrainConfig,
     export_crop_classifier,

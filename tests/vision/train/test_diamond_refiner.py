@@ -7,13 +7,13 @@ import pytest
 torch = pytest.importorskip("torch")
 
 from pix2pockets.vision.stages.diamond_refiner import DIAMOND_CROP_SIZE, DiamondRefiner  # noqa: E402
-from pix2pockets.vision.train.crop_classifier import CropNet  # noqa: E402
+from pix2pockets.vision.train.ball_classifier import CropNet  # noqa: E402
 from pix2pockets.vision.train.crop_fit import flip_rotate  # noqa: E402
-from pix2pockets.vision.train.diamond_trainer import (  # noqa: E402
+from pix2pockets.vision.train.diamond_refiner import (  # noqa: E402
     DiamondTrainConfig,
     export_diamond_refiner,
 )
-from pix2pockets.vision.train.refiner_trainer import box_loss  # noqa: E402
+from pix2pockets.vision.train.refiner import box_loss  # noqa: E402
 
 S = DIAMOND_CROP_SIZE
 

@@ -5,7 +5,7 @@ import pytest
 torch = pytest.importorskip("torch")
 
 from pix2pockets.vision.detect.heads import BALL_ANY, N_OUT  # noqa: E402
-from pix2pockets.vision.train.model import ExportWrapper  # noqa: E402
+from pix2pockets.vision.train.detector_model import ExportWrapper  # noqa: E402
 
 
 class _Fixed(torch.nn.Module):

@@ -5,7 +5,7 @@ import pytest
 
 pytest.importorskip("torch")
 
-from pix2pockets.vision.train.number_reader_trainer import NumberTrainConfig, number_accuracy
+from pix2pockets.vision.train.ball_numbers import NumberTrainConfig, number_accuracy
 
 
 @pytest.mark.parametrize(
