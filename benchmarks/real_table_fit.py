@@ -10,7 +10,7 @@ Photos: ``benchmarks/data/real_phone_photos.json`` (one copy of each of the 80 p
 
 Usage:
     PYTHONPATH=src python benchmarks/real_table_fit.py [--data DIR] [--photos FILE] [--min-iou 0.6] [--draw DIR]
-        [--json OUT.json]
+        [--json OUT.json] [--cues diamonds|cloth|all]
 """
 
 from __future__ import annotations
@@ -26,7 +26,8 @@ from pix2pockets.vision.detect.onnx_detector import OnnxDetector
 from pix2pockets.vision.detect.postprocess import box_iou
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.metrics.yolo_data import read_yolo_labels
-from pix2pockets.vision.table.fit import TableFit, TableFitError, fit_table
+from pix2pockets.vision.table.estimate import CUES, estimate_table
+from pix2pockets.vision.table.fit import TableFit, TableFitError
 
 HERE = Path(__file__).resolve().parent
 DEFAULT_DATA = HERE.parent.parent / "shared" / "data" / "real-snooker-vision"
@@ -43,11 +44,16 @@ def rail_outline_px(fit: TableFit) -> np.ndarray:
 
 
 def table_box_iou(fit: TableFit, table_boxes: np.ndarray) -> float:
-    """Best IoU of the fitted rail outline's bounding box with the labelled table boxes (NaN without any)."""
+    """Best IoU of the fitted rail outline's bounding box, cut to the photo as the labels are, with the labelled
+    table boxes (NaN without any)."""
     if not len(table_boxes):
         return float("nan")
     outline = rail_outline_px(fit)
-    return float(box_iou(np.concatenate([outline.min(axis=0), outline.max(axis=0)])[None], table_boxes).max())
+    if not np.all(np.isfinite(outline)):
+        return 0.0
+    w, h = fit.camera.image_size
+    box = np.clip(np.concatenate([outline.min(axis=0), outline.max(axis=0)]), 0, [w, h, w, h])
+    return float(box_iou(box[None], table_boxes).max())
 
 
 def main() -> None:
@@ -57,6 +63,7 @@ def main() -> None:
     ap.add_argument("--min-iou", type=float, default=0.6, help="IoU at which a fit agrees with the table box")
     ap.add_argument("--draw", type=Path, default=None, help="folder for the photos with their fitted outline")
     ap.add_argument("--json", default=None)
+    ap.add_argument("--cues", choices=CUES, default="all", help="fit the diamonds, the cloth outline or both")
     args = ap.parse_args()
 
     detector = OnnxDetector.from_default()
@@ -69,18 +76,32 @@ def main() -> None:
         size = (image.shape[1], image.shape[0])
         boxes, classes = read_yolo_labels(path.parent.parent / "labels" / (path.stem + ".txt"), size)
         try:
-            fit = fit_table(clean_detections(detector.detect(image)), size)
+            fit = estimate_table(image, clean_detections(detector.detect(image)), size, cues=args.cues)
         except TableFitError as err:
             rows.append({"image": name, "fit": False, "error": str(err)})
             continue
         iou = table_box_iou(fit, boxes[classes == TABLE_CLASS])
-        rows.append({"image": name, "fit": True, "diamonds": fit.n_matched, "rms_px": fit.rms_px, "table_box_iou": iou})
+        rows.append(
+            {
+                "image": name,
+                "fit": True,
+                "source": fit.source,
+                "table": fit.spec.name,
+                "size_source": fit.size_source,
+                "diamonds": fit.n_matched,
+                "rms_px": fit.rms_px,
+                "table_box_iou": iou,
+            }
+        )
         if args.draw:
             import cv2
 
             args.draw.mkdir(parents=True, exist_ok=True)
             drawn = cv2.cvtColor(image, cv2.COLOR_RGB2BGR)
             cv2.polylines(drawn, [rail_outline_px(fit).astype(np.int32).reshape(-1, 1, 2)], True, (0, 255, 255), 2)
+            cv2.polylines(drawn, [fit.corners_px.astype(np.int32).reshape(-1, 1, 2)], True, (255, 0, 255), 1)
+            head = fit.table_to_image(np.array([[0.0, 0.0], [0.0, fit.spec.width]]))
+            cv2.line(drawn, tuple(int(v) for v in head[0]), tuple(int(v) for v in head[1]), (0, 0, 255), 2)
             cv2.imwrite(str(args.draw / (path.stem + ".png")), drawn)
     fits = [r for r in rows if r["fit"]]
     agree = [r for r in fits if r["table_box_iou"] >= args.min_iou]
@@ -88,7 +109,10 @@ def main() -> None:
     for r in fits:
         flag = "" if r["table_box_iou"] >= args.min_iou else "   <- look"
         name = Path(r["image"]).name[:16]
-        print(f"  {name}  {r['diamonds']:>2} diamonds  {r['rms_px']:4.1f} px  IoU {r['table_box_iou']:.2f}{flag}")
+        print(
+            f"  {name}  {r['source']:>14}  {r['table']:>5} ({r['size_source']})  {r['diamonds']:>2} diamonds  "
+            f"{r['rms_px']:4.1f} px  IoU {r['table_box_iou']:.2f}{flag}"
+        )
     if args.json:
         report = {"photos": len(rows), "fits": len(fits), "agree": len(agree), "min_iou": args.min_iou, "rows": rows}
         Path(args.json).write_text(json.dumps(report, indent=1) + "\n")

@@ -20,7 +20,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pix2pockets.synth import raycast as rc
+from pix2pockets.synth import scene_codes as sc
 from pix2pockets.synth.renderer import scene_of
 from pix2pockets.vision.classes import BALL_IDS, CLASS_NAMES
 from pix2pockets.vision.detect.onnx_detector import (
@@ -66,7 +66,7 @@ def main() -> None:
     for meta_path in sorted((folder / "meta").glob("*.json")):
         meta = json.loads(meta_path.read_text())
         scene = scene_of(tuple(meta["seed"]))
-        band = float(scene.shade[rc.S_BAND])
+        band = float(scene.shade[sc.S_BAND])
         camera = np.asarray(meta["camera"]["position_m"], float)
         image = read_image_rgb(next((folder / "images").glob(meta_path.stem + ".*")))
         raw = det.detect(image)

@@ -8,7 +8,7 @@ import pytest
 
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.synth import labels, render, render_sample, render_views
-from pix2pockets.synth import raycast as rc
+from pix2pockets.synth import scene_codes as sc
 from pix2pockets.synth.renderer import parse_size, scene_of, trace, trace_without_diamonds
 
 SIZE = (320, 180)
@@ -42,7 +42,7 @@ def test_labelled_ball_centres_inside_boxes_and_on_ball_pixels(renders):
             u, v = ball["centre_px"]
             assert x0 - 1 <= u <= x1 + 1 and y0 - 1 <= v <= y1 + 1, ball
             # the pixel at the projected centre shows this ball (exactly, in the id buffer)
-            assert rend.ids[int(v), int(u)] == rc.ID_BALL0 + i
+            assert rend.ids[int(v), int(u)] == sc.ID_BALL0 + i
             checked += 1
     assert checked >= 20
 
@@ -61,7 +61,7 @@ def test_ball_pixels_have_ball_colours():
             n = ball["number"]
             if n not in checks or not ball["labelled"] or ball["occluded_fraction"] > 0 or ball["visible_px"] < 60:
                 continue
-            pix = rend.image[rend.ids == rc.ID_BALL0 + i]
+            pix = rend.image[rend.ids == sc.ID_BALL0 + i]
             r, g, b = (int(c) for c in np.median(pix, axis=0))
             assert checks[n](r, g, b), (seed, n, r, g, b)
             seen.add(n)
@@ -75,9 +75,9 @@ def test_diamonds_lie_on_rails(renders):
                 continue
             u, v = (int(c) for c in diamond["px"])
             around = rend.ids[max(v - 1, 0) : v + 2, max(u - 1, 0) : u + 2]
-            on_rail = (around == rc.ID_DIAMOND0 + diamond["index"]) | (around == rc.ID_CAP)
+            on_rail = (around == sc.ID_DIAMOND0 + diamond["index"]) | (around == sc.ID_CAP)
             assert on_rail.any(), diamond
-            assert not np.isin(around, [rc.ID_CLOTH, rc.ID_FLOOR, rc.ID_WALL]).all(), diamond
+            assert not np.isin(around, [sc.ID_CLOTH, sc.ID_FLOOR, sc.ID_WALL]).all(), diamond
             x0, y0, x1, y1 = diamond["box_px"]
             assert x0 <= diamond["px"][0] <= x1 and y0 <= diamond["px"][1] <= y1
 
@@ -105,11 +105,11 @@ def test_leaving_the_diamonds_out_changes_only_diamond_pixels():
     scene = scene_of(SEEDS[1])
     raw, ids, _, _ = trace(scene, cam)
     raw_plain, ids_plain, _, _ = trace(scene, cam, diamonds=False)
-    on_diamond = (ids >= rc.ID_DIAMOND0) & (ids < rc.ID_DIAMOND0 + 18)
-    assert on_diamond.any() and not ((ids_plain >= rc.ID_DIAMOND0) & (ids_plain < rc.ID_DIAMOND0 + 18)).any()
+    on_diamond = (ids >= sc.ID_DIAMOND0) & (ids < sc.ID_DIAMOND0 + 18)
+    assert on_diamond.any() and not ((ids_plain >= sc.ID_DIAMOND0) & (ids_plain < sc.ID_DIAMOND0 + 18)).any()
     near = cv2.dilate(on_diamond.astype(np.uint8), np.ones((3, 3), np.uint8)).astype(bool)  # anti-aliased edges
     assert np.array_equal(raw[~near], raw_plain[~near]) and not np.array_equal(raw[near], raw_plain[near])
-    assert np.array_equal(ids_plain[on_diamond], np.full(on_diamond.sum(), rc.ID_CAP))
+    assert np.array_equal(ids_plain[on_diamond], np.full(on_diamond.sum(), sc.ID_CAP))
 
 
 def test_retracing_only_around_the_diamonds_matches_a_full_trace_without_them():
@@ -130,7 +130,7 @@ def test_occluded_objects_are_flagged_and_left_out():
         rend = render(seed, SIZE)
         occ = rend.occluded
         for i, ball in enumerate(rend.labels["balls"]):
-            mask = rend.ids == rc.ID_BALL0 + i
+            mask = rend.ids == sc.ID_BALL0 + i
             if mask.sum() < 10:
                 continue
             hidden = (mask & occ).sum() / mask.sum()
@@ -173,10 +173,10 @@ def test_rail_cap_step_closes_the_gap_above_the_cushion():
     for seed in range(3):
         ids = render(seed, (320, 180), camera_kind="low").ids
         for col in ids.T:
-            rows = np.flatnonzero(col == rc.ID_CUSHION)
+            rows = np.flatnonzero(col == sc.ID_CUSHION)
             if len(rows) == 0 or rows[0] == 0:
                 continue
             columns += 1
-            gaps += col[rows[0] - 1] in (rc.ID_NOSE, rc.ID_FLOOR, rc.ID_WALL, rc.ID_CLOTH)
+            gaps += col[rows[0] - 1] in (sc.ID_NOSE, sc.ID_FLOOR, sc.ID_WALL, sc.ID_CLOTH)
     assert columns > 300
     assert gaps < 0.2 * columns

@@ -354,12 +354,14 @@ TABLE_PRESETS: dict[str, TableSpec] = {
     "9ft": TableSpec(),
     "8ft": _preset("8ft", 92.0, 46.0),
     "7ft": _preset("7ft", 78.0, 39.0),
+    "6ft": _preset("6ft", 66.0, 33.0),
 }
-"""WPA-style presets by name; 9-foot is the default (``TableSpec()``)."""
+"""Presets by name, playing surface between the cushion noses: 9-foot 100 x 50 in (the default, ``TableSpec()``),
+8-foot 92 x 46 in, 7-foot (bar box) 78 x 39 in, 6-foot (home) 66 x 33 in."""
 
 
 def table_preset(name: str) -> TableSpec:
-    """Return the preset table called ``name`` (``"9ft"``, ``"8ft"`` or ``"7ft"``)."""
+    """Return the preset table called ``name`` (``"9ft"``, ``"8ft"``, ``"7ft"`` or ``"6ft"``)."""
     try:
         return TABLE_PRESETS[name]
     except KeyError:

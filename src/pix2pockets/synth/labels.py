@@ -11,9 +11,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from numba import njit
 
 from pix2pockets.geometry.camera import PinholeCamera
-from pix2pockets.synth import raycast as rc
+from pix2pockets.synth import scene_codes as sc
 from pix2pockets.synth.scene import Scene
 from pix2pockets.vision.classes import CLASS_NAMES, DIAMOND_ID, MIN_DIAMOND_BOX_PX
 
@@ -62,7 +63,7 @@ def polygon_area(poly: np.ndarray) -> float:
 def diamond_outline(scene: Scene, k: int, n: int = 16) -> np.ndarray:
     """Outline of diamond ``k`` on the rail cap in table coordinates (n, 3) [m]."""
     g = scene.geo
-    dr = g[rc.G_DR]
+    dr = g[sc.G_DR]
     xy = scene.spec.diamonds[k]
     th = np.linspace(0, 2 * math.pi, n, endpoint=False)
     if scene.style.get("diamond_shape") == "rhombus":
@@ -72,7 +73,7 @@ def diamond_outline(scene: Scene, k: int, n: int = 16) -> np.ndarray:
         pts = np.array([[ax, 0], [0, ay], [-ax, 0], [0, -ay]])
     else:
         pts = dr * np.column_stack([np.cos(th), np.sin(th)])
-    return np.column_stack([pts + xy, np.full(len(pts), g[rc.G_HR])])
+    return np.column_stack([pts + xy, np.full(len(pts), g[sc.G_HR])])
 
 
 def _clip_box(box: np.ndarray, w: int, h: int) -> list[float] | None:
@@ -126,12 +127,12 @@ def build_labels(
             a diamond is labelled only if it reaches ``DIAMOND_MIN_SIGNAL`` within its box.
     """
     w, h = cam.image_size
-    counts, hidden, boxes = rc.object_stats(ids, occluded, rc.ID_BALL0 + 16)
+    counts, hidden, boxes = object_stats(ids, occluded, sc.ID_BALL0 + 16)
     spec = scene.spec
     r = spec.ball_radius
     balls = []
     for i, (ball, centre) in enumerate(zip(scene.layout.balls, scene.ball_centres, strict=True)):
-        k = rc.ID_BALL0 + i
+        k = sc.ID_BALL0 + i
         outline = sphere_outline_px(cam, centre, r)
         area = polygon_area(outline) if outline is not None else float("nan")
         full_box = (
@@ -169,9 +170,9 @@ def build_labels(
         )
 
     diamonds = []
-    hr = float(scene.geo[rc.G_HR])
+    hr = float(scene.geo[sc.G_HR])
     for k, xy in enumerate(spec.diamonds):
-        idk = rc.ID_DIAMOND0 + k
+        idk = sc.ID_DIAMOND0 + k
         p3 = np.array([xy[0], xy[1], hr])
         centre_px = cam.project(p3)
         outline = cam.project(diamond_outline(scene, k))
@@ -190,7 +191,7 @@ def build_labels(
             if area < 8.0:
                 if in_frame:
                     u, v = int(centre_px[0]), int(centre_px[1])
-                    vis = float(ids[v, u] in (idk, rc.ID_CAP) and not occluded[v, u])
+                    vis = float(ids[v, u] in (idk, sc.ID_CAP) and not occluded[v, u])
                 else:
                     vis = 0.0
             else:
@@ -210,7 +211,7 @@ def build_labels(
         diamonds.append(entry)
 
     corners = []
-    hc = float(scene.geo[rc.G_H])
+    hc = float(scene.geo[sc.G_H])
     for k, xy in enumerate(spec.corners):
         p_nose = cam.project(np.array([xy[0], xy[1], hc]))
         p_cloth = cam.project(np.array([xy[0], xy[1], 0.0]))
@@ -246,3 +247,41 @@ def yolo_lines(labels: dict) -> list[str]:
     for cls, (x0, y0, x1, y1) in rows:
         out.append(f"{cls} {(x0 + x1) / 2 / w:.6f} {(y0 + y1) / 2 / h:.6f} {(x1 - x0) / w:.6f} {(y1 - y0) / h:.6f}")
     return out
+
+
+@njit(cache=True)
+def object_stats(ids, occluded, n_ids):
+    """Per id: visible pixel count, count hidden by 2-D occluders, and the bbox of the visible pixels.
+
+    Returns:
+        counts (n_ids,) visible pixels, hidden (n_ids,) pixels covered by ``occluded``, boxes (n_ids, 4)
+        as x0, y0, x1, y1 (inclusive pixel indices; -1 when no pixel is visible).
+    """
+    counts = np.zeros(n_ids, np.int64)
+    hidden = np.zeros(n_ids, np.int64)
+    boxes = np.full((n_ids, 4), -1, np.int64)
+    H, W = ids.shape
+    for v in range(H):
+        for u in range(W):
+            k = ids[v, u]
+            if k <= 0 or k >= n_ids:
+                continue
+            if occluded[v, u]:
+                hidden[k] += 1
+                continue
+            if counts[k] == 0:
+                boxes[k, 0] = u
+                boxes[k, 1] = v
+                boxes[k, 2] = u
+                boxes[k, 3] = v
+            else:
+                if u < boxes[k, 0]:
+                    boxes[k, 0] = u
+                if u > boxes[k, 2]:
+                    boxes[k, 2] = u
+                if v < boxes[k, 1]:
+                    boxes[k, 1] = v
+                if v > boxes[k, 3]:
+                    boxes[k, 3] = v
+            counts[k] += 1
+    return counts, hidden, boxes

@@ -15,6 +15,7 @@ from pix2pockets.geometry.table import TABLE_PRESETS, TableSpec
 from pix2pockets.synth import effects as fx
 from pix2pockets.synth import people, props
 from pix2pockets.synth import raycast as rc
+from pix2pockets.synth import scene_codes as sc
 from pix2pockets.synth.cameras import VIEW_KINDS, sample_camera
 from pix2pockets.synth.labels import build_labels, camera_dict, sphere_outline_px
 from pix2pockets.synth.layouts import sample_layout
@@ -103,7 +104,7 @@ def trace_without_diamonds(
     other pixel is the same with or without the sights and is copied. Same result as
     ``trace(scene, cam, diamonds=False)[0]`` for a fraction of the cost.
     """
-    on_diamond = (ids >= rc.ID_DIAMOND0) & (ids < rc.ID_DIAMOND0 + len(scene.spec.diamonds))
+    on_diamond = (ids >= sc.ID_DIAMOND0) & (ids < sc.ID_DIAMOND0 + len(scene.spec.diamonds))
     side = 2 * DIAMOND_RETRACE_MARGIN_PX + 1
     mask = cv2.dilate(on_diamond.astype(np.uint8), np.ones((side, side), np.uint8))
     rgb, ids_plain, depth_plain = raw.copy(), ids.copy(), depth.copy()
@@ -171,10 +172,10 @@ def _trace_into(
 
 def _exposure(scene: Scene, rgb: np.ndarray, ids: np.ndarray) -> float:
     """Auto-exposure: put the median lit cloth (or the median image) near mid-grey brightness."""
-    table = (ids == rc.ID_CLOTH) | (ids == rc.ID_CUSHION)
+    table = (ids == sc.ID_CLOTH) | (ids == sc.ID_CUSHION)
     lum = rgb.mean(axis=2)
     ref = float(np.median(lum[table])) if table.sum() > 200 else float(np.median(lum))
-    cloth_albedo = float(scene.mats[rc.M_CLOTH].mean())
+    cloth_albedo = float(scene.mats[sc.M_CLOTH].mean())
     target = np.clip(cloth_albedo, 0.08, 0.5) * 1.1 if table.sum() > 200 else 0.35
     return float(target / max(ref, 1e-4))
 
@@ -210,7 +211,7 @@ def _add_occluders(
     lighting = scene.style.get("lighting")
     # lamp shades over pub tables (a top-down camera hangs among or above them: skip there)
     if lighting in ("pub_lamps", "warm_pub") and kind != "top" and rng.random() < 0.8:
-        people.draw_figure(img, mask, depth, cam, props.lamp_shades(rng, scene.lights, float(scene.geo[rc.G_ZC])))
+        people.draw_figure(img, mask, depth, cam, props.lamp_shades(rng, scene.lights, float(scene.geo[sc.G_ZC])))
         used.append("lamps")
     for _ in range(int(rng.poisson(0.8 if scene.style.get("room") != "arena" else 0.2))):
         ang = rng.uniform(-np.pi, np.pi)
@@ -226,10 +227,10 @@ def _add_occluders(
         for _ in range(int(rng.integers(1, 3))):
             k = int(rng.integers(4))
             s = rng.uniform(0.05, 0.95)
-            off = scene.geo[rc.G_CW] + (scene.rail_width - scene.geo[rc.G_CW]) * 0.5
+            off = scene.geo[sc.G_CW] + (scene.rail_width - scene.geo[sc.G_CW]) * 0.5
             xy = [(s * spec.length, -off), (spec.length + off, s * spec.width), (s * spec.length, spec.width + off),
                   (-off, s * spec.width)][k]  # fmt: skip
-            people.draw_figure(img, mask, depth, cam, props.glass(rng, np.array([*xy, scene.geo[rc.G_HR]])), 0.5)
+            people.draw_figure(img, mask, depth, cam, props.glass(rng, np.array([*xy, scene.geo[sc.G_HR]])), 0.5)
         used.append("glasses")
     if len(centres) and rng.random() < 0.4 * strength:
         cue_i = scene.layout.cue_index
@@ -261,10 +262,10 @@ def _add_occluders(
     if rng.random() < 0.25 * strength:
         k = int(rng.integers(4))
         s = rng.uniform(0.05, 0.95)
-        off = scene.geo[rc.G_CW] + (scene.rail_width - scene.geo[rc.G_CW]) * rng.uniform(0.2, 0.8)
+        off = scene.geo[sc.G_CW] + (scene.rail_width - scene.geo[sc.G_CW]) * rng.uniform(0.2, 0.8)
         xy = [(s * spec.length, -off), (spec.length + off, s * spec.width), (s * spec.length, spec.width + off),
               (-off, s * spec.width)][k]  # fmt: skip
-        fx.draw_chalk(img, mask, rng, cam, np.array([xy[0], xy[1], scene.geo[rc.G_HR]]))
+        fx.draw_chalk(img, mask, rng, cam, np.array([xy[0], xy[1], scene.geo[sc.G_HR]]))
         used.append("chalk")
     broadcast = scene.style.get("room") == "arena"
     if not phone and rng.random() < (0.45 if broadcast else 0.08) * strength:

@@ -13,7 +13,7 @@ import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.state.layout import TableLayout
-from pix2pockets.synth import raycast as rc
+from pix2pockets.synth import scene_codes as sc
 from pix2pockets.synth.palette import (
     ALT_BALL_COLOURS,
     BALL_COLOURS,
@@ -74,11 +74,11 @@ class Scene:
 
     @property
     def rail_width(self) -> float:
-        return float(self.geo[rc.G_RW])
+        return float(self.geo[sc.G_RW])
 
     @property
     def floor_z(self) -> float:
-        return float(self.geo[rc.G_ZF])
+        return float(self.geo[sc.G_ZF])
 
     def ball_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Band/base colours (n, 3), kinds (n,) and numbers (n,) of the balls for the ray caster."""
@@ -88,7 +88,7 @@ class Scene:
             n = int(ball.number)
             base = n - 8 if n > 8 else n
             cols.append(jit.get(base, BALL_COLOURS[base]))
-            kinds.append(rc.BALL_CUE if n == 0 else rc.BALL_STRIPE if n > 8 else rc.BALL_SOLID)
+            kinds.append(sc.BALL_CUE if n == 0 else sc.BALL_STRIPE if n > 8 else sc.BALL_SOLID)
             nums.append(n)
         return (
             np.array(cols, dtype=np.float64).reshape(-1, 3),
@@ -162,35 +162,35 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
     cloth_name = weighted_choice(rng, CLOTH_WEIGHTS)
     rail_name = weighted_choice(rng, RAIL_WEIGHTS)
 
-    geo = np.zeros(rc.N_GEO)
-    geo[rc.G_L], geo[rc.G_W] = L, W
-    geo[rc.G_H] = spec.cushion_height
-    geo[rc.G_HR] = spec.cushion_height + rng.uniform(0.003, 0.012)
-    geo[rc.G_CW] = rng.uniform(0.04, 0.055)
+    geo = np.zeros(sc.N_GEO)
+    geo[sc.G_L], geo[sc.G_W] = L, W
+    geo[sc.G_H] = spec.cushion_height
+    geo[sc.G_HR] = spec.cushion_height + rng.uniform(0.003, 0.012)
+    geo[sc.G_CW] = rng.uniform(0.04, 0.055)
     rw = float(np.clip(spec.rail_width * rng.uniform(0.9, 1.45), spec.diamond_setback + 0.025, 0.22))
-    geo[rc.G_RW] = rw
-    geo[rc.G_ZA] = -rng.uniform(0.1, 0.3)
-    geo[rc.G_BI] = rng.uniform(0.02, 0.3)
+    geo[sc.G_RW] = rw
+    geo[sc.G_ZA] = -rng.uniform(0.1, 0.3)
+    geo[sc.G_BI] = rng.uniform(0.02, 0.3)
     zf = -rng.uniform(0.74, 0.80)
-    geo[rc.G_ZF] = zf
-    geo[rc.G_ZC] = zf + rng.uniform(2.5, 4.0)
-    geo[rc.G_RX0] = -rw - rng.uniform(1.0, 4.0)
-    geo[rc.G_RX1] = L + rw + rng.uniform(1.0, 4.0)
-    geo[rc.G_RY0] = -rw - rng.uniform(1.0, 4.0)
-    geo[rc.G_RY1] = W + rw + rng.uniform(1.0, 4.0)
-    geo[rc.G_BR] = spec.ball_radius
-    geo[rc.G_LINER] = rng.uniform(0.006, 0.025)
-    geo[rc.G_DR] = rng.uniform(0.0055, 0.0085)
-    geo[rc.G_KC] = _jaw_slope(spec.corner_jaw_angle)
-    geo[rc.G_KS] = _jaw_slope(spec.side_jaw_angle)
-    geo[rc.G_DC] = spec.corner_mouth / math.sqrt(2)
-    geo[rc.G_SS] = spec.side_mouth / 2
-    geo[rc.G_ZHB] = -0.12
-    geo[rc.G_LEGS] = float(rng.choice([0, 4, 6], p=[0.45, 0.35, 0.2]))
-    geo[rc.G_LEGW] = rng.uniform(0.1, 0.25)
-    geo[rc.G_SKIRT] = rng.uniform(0.06, 0.2)
-    if geo[rc.G_LEGS] > 0:  # legged tables sit under a shallower apron, legs just inside the rail
-        geo[rc.G_BI] = rng.uniform(0.03, 0.12)
+    geo[sc.G_ZF] = zf
+    geo[sc.G_ZC] = zf + rng.uniform(2.5, 4.0)
+    geo[sc.G_RX0] = -rw - rng.uniform(1.0, 4.0)
+    geo[sc.G_RX1] = L + rw + rng.uniform(1.0, 4.0)
+    geo[sc.G_RY0] = -rw - rng.uniform(1.0, 4.0)
+    geo[sc.G_RY1] = W + rw + rng.uniform(1.0, 4.0)
+    geo[sc.G_BR] = spec.ball_radius
+    geo[sc.G_LINER] = rng.uniform(0.006, 0.025)
+    geo[sc.G_DR] = rng.uniform(0.0055, 0.0085)
+    geo[sc.G_KC] = _jaw_slope(spec.corner_jaw_angle)
+    geo[sc.G_KS] = _jaw_slope(spec.side_jaw_angle)
+    geo[sc.G_DC] = spec.corner_mouth / math.sqrt(2)
+    geo[sc.G_SS] = spec.side_mouth / 2
+    geo[sc.G_ZHB] = -0.12
+    geo[sc.G_LEGS] = float(rng.choice([0, 4, 6], p=[0.45, 0.35, 0.2]))
+    geo[sc.G_LEGW] = rng.uniform(0.1, 0.25)
+    geo[sc.G_SKIRT] = rng.uniform(0.06, 0.2)
+    if geo[sc.G_LEGS] > 0:  # legged tables sit under a shallower apron, legs just inside the rail
+        geo[sc.G_BI] = rng.uniform(0.03, 0.12)
 
     holes = np.zeros((6, 3))
     for k, pocket in enumerate(spec.pockets):
@@ -205,49 +205,49 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
             holes[k, 2] = rng.uniform(0.055, 0.064)
 
     is_wood = rail_name in WOOD_RAILS
-    shade = np.zeros(rc.N_SHADE)
-    shade[rc.S_AMB] = {"broadcast": 0.35, "pub_lamps": 0.2, "warm_pub": 0.12, "home": 0.45}[lighting] * rng.uniform(
+    shade = np.zeros(sc.N_SHADE)
+    shade[sc.S_AMB] = {"broadcast": 0.35, "pub_lamps": 0.2, "warm_pub": 0.12, "home": 0.45}[lighting] * rng.uniform(
         0.7, 1.3
     )
-    shade[rc.S_CLOTH_TEX] = rng.uniform(0.02, 0.09)
-    shade[rc.S_CLOTH_SCALE] = rng.uniform(60, 250)
-    shade[rc.S_RAIL_TEX] = rng.uniform(0.6, 1.0) if is_wood else rng.uniform(0.0, 0.15)
-    shade[rc.S_RAIL_GLOSS] = rng.uniform(0.05, 0.5)
-    shade[rc.S_RAIL_SHIN] = rng.uniform(15, 80)
-    shade[rc.S_BALL_KS] = rng.uniform(0.5, 1.3)
-    shade[rc.S_BALL_SHIN] = rng.uniform(60, 500)
-    shade[rc.S_FLOOR_SCALE] = rng.uniform(60, 200)
-    shade[rc.S_BOUNCE] = rng.uniform(0.1, 0.4)
-    shade[rc.S_DIA_SHAPE] = float(rng.choice([0, 1, 2], p=[0.5, 0.3, 0.2]))
-    shade[rc.S_CUE_DOTS] = float(rng.random() < 0.2)
-    shade[rc.S_BAND] = rng.uniform(0.42, 0.6)
-    shade[rc.S_NUMR] = math.cos(rng.uniform(0.33, 0.45))
-    shade[rc.S_REFL] = rng.uniform(0.3, 1.0)
-    shade[rc.S_ROOM] = {"arena": rng.uniform(0.0, 0.1), "pub": rng.uniform(0.05, 0.3), "home": rng.uniform(0.2, 0.6)}[
+    shade[sc.S_CLOTH_TEX] = rng.uniform(0.02, 0.09)
+    shade[sc.S_CLOTH_SCALE] = rng.uniform(60, 250)
+    shade[sc.S_RAIL_TEX] = rng.uniform(0.6, 1.0) if is_wood else rng.uniform(0.0, 0.15)
+    shade[sc.S_RAIL_GLOSS] = rng.uniform(0.05, 0.5)
+    shade[sc.S_RAIL_SHIN] = rng.uniform(15, 80)
+    shade[sc.S_BALL_KS] = rng.uniform(0.5, 1.3)
+    shade[sc.S_BALL_SHIN] = rng.uniform(60, 500)
+    shade[sc.S_FLOOR_SCALE] = rng.uniform(60, 200)
+    shade[sc.S_BOUNCE] = rng.uniform(0.1, 0.4)
+    shade[sc.S_DIA_SHAPE] = float(rng.choice([0, 1, 2], p=[0.5, 0.3, 0.2]))
+    shade[sc.S_CUE_DOTS] = float(rng.random() < 0.2)
+    shade[sc.S_BAND] = rng.uniform(0.42, 0.6)
+    shade[sc.S_NUMR] = math.cos(rng.uniform(0.33, 0.45))
+    shade[sc.S_REFL] = rng.uniform(0.3, 1.0)
+    shade[sc.S_ROOM] = {"arena": rng.uniform(0.0, 0.1), "pub": rng.uniform(0.05, 0.3), "home": rng.uniform(0.2, 0.6)}[
         room
     ]
-    shade[rc.S_CLOTH_NAP] = rng.uniform(0.0, 0.06)
-    shade[rc.S_AO] = rng.uniform(0.35, 0.75)
+    shade[sc.S_CLOTH_NAP] = rng.uniform(0.0, 0.06)
+    shade[sc.S_AO] = rng.uniform(0.35, 0.75)
 
-    mats = np.zeros((rc.N_MATS, 3))
-    mats[rc.M_CLOTH] = jitter(rng, CLOTH_COLOURS[cloth_name], 0.12)
-    mats[rc.M_RAIL] = jitter(rng, RAIL_MATERIALS[rail_name], 0.1)
-    mats[rc.M_APRON] = (
-        mats[rc.M_RAIL] * rng.uniform(0.6, 1.0)
+    mats = np.zeros((sc.N_MATS, 3))
+    mats[sc.M_CLOTH] = jitter(rng, CLOTH_COLOURS[cloth_name], 0.12)
+    mats[sc.M_RAIL] = jitter(rng, RAIL_MATERIALS[rail_name], 0.1)
+    mats[sc.M_APRON] = (
+        mats[sc.M_RAIL] * rng.uniform(0.6, 1.0)
         if rng.random() < 0.7
         else jitter(rng, RAIL_MATERIALS[weighted_choice(rng, RAIL_WEIGHTS)], 0.1)
     )
-    mats[rc.M_BODY] = mats[rc.M_APRON] * rng.uniform(0.3, 0.8)
-    mats[rc.M_LINER] = jitter(rng, LINER_COLOURS[int(rng.integers(len(LINER_COLOURS)))], 0.1)
-    mats[rc.M_DIAMOND] = jitter(rng, _diamond_colour(rng, rail_name), 0.03)
-    mats[rc.M_CEIL] = jitter(rng, (0.3, 0.3, 0.3) if room != "arena" else (0.02, 0.02, 0.03), 0.3)
+    mats[sc.M_BODY] = mats[sc.M_APRON] * rng.uniform(0.3, 0.8)
+    mats[sc.M_LINER] = jitter(rng, LINER_COLOURS[int(rng.integers(len(LINER_COLOURS)))], 0.1)
+    mats[sc.M_DIAMOND] = jitter(rng, _diamond_colour(rng, rail_name), 0.03)
+    mats[sc.M_CEIL] = jitter(rng, (0.3, 0.3, 0.3) if room != "arena" else (0.02, 0.02, 0.03), 0.3)
     amb_col = {"warm_pub": (1.0, 0.85, 0.65), "home": (0.95, 0.97, 1.0)}.get(lighting, (1.0, 1.0, 1.0))
-    mats[rc.M_AMBCOL] = jitter(rng, amb_col, 0.03)
-    mats[rc.M_WALLTINT] = jitter(rng, (1.0, 1.0, 1.0), 0.05)
-    mats[rc.M_RUG] = rng.uniform(0.05, 0.6, 3) ** 1.3
+    mats[sc.M_AMBCOL] = jitter(rng, amb_col, 0.03)
+    mats[sc.M_WALLTINT] = jitter(rng, (1.0, 1.0, 1.0), 0.05)
+    mats[sc.M_RUG] = rng.uniform(0.05, 0.6, 3) ** 1.3
     if room != "arena" and rng.random() < 0.3:  # a rug under the table
-        geo[rc.G_RUGX] = L / 2 + rw + rng.uniform(0.2, 1.0)
-        geo[rc.G_RUGY] = W / 2 + rw + rng.uniform(0.2, 1.0)
+        geo[sc.G_RUGX] = L / 2 + rw + rng.uniform(0.2, 1.0)
+        geo[sc.G_RUGY] = W / 2 + rw + rng.uniform(0.2, 1.0)
 
     base_colours = dict(BALL_COLOURS)
     for n, alts in ALT_BALL_COLOURS.items():
@@ -263,7 +263,7 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
         "rail": rail_name,
         "lighting": lighting,
         "room": room,
-        "diamond_shape": ["round", "rhombus", "pearl"][int(shade[rc.S_DIA_SHAPE])],
+        "diamond_shape": ["round", "rhombus", "pearl"][int(shade[sc.S_DIA_SHAPE])],
         "ball_jitter": ball_jitter,
     }
     return Scene(

@@ -79,6 +79,11 @@ class TableFit:
         rms_px: root-mean-square reprojection error of the matched points [px].
         n_matched: number of matched diamonds.
         diamond_z: height of the diamond plane above the cloth used for ``camera`` [m].
+        source: the cues the camera was fitted to: ``"diamonds"``, ``"cloth"`` (the cloth outline; ``rms_px`` is
+            then its corners' error) or ``"diamonds+cloth"``.
+        size_source: where the table's size comes from: ``"diamonds"`` (the diamond pattern matched to ``spec``),
+            ``"given"`` (passed by the caller), ``"balls"`` (measured from the balls' apparent size) or
+            ``"default"`` (9-foot, nothing to measure it by).
     """
 
     spec: TableSpec
@@ -88,6 +93,8 @@ class TableFit:
     rms_px: float
     n_matched: int
     diamond_z: float
+    source: str = "diamonds"
+    size_source: str = "diamonds"
 
     def with_diamond_z(self, z: float) -> TableFit:
         """The same fit for diamonds at height ``z`` [m] above the cloth.
@@ -98,9 +105,7 @@ class TableFit:
         cam = self.camera
         t = cam.t - cam.R[:, 2] * (float(z) - self.diamond_z)
         camera = PinholeCamera(cam.K, cam.R, t, cam.image_size)
-        return TableFit(
-            self.spec, camera, self.diamond_index, self.diamond_corners_px, self.rms_px, self.n_matched, float(z)
-        )
+        return replace(self, camera=camera, diamond_z=float(z))
 
     @property
     def homography(self) -> np.ndarray:

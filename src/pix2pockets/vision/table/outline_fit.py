@@ -24,7 +24,7 @@ from dataclasses import replace
 import numpy as np
 
 from pix2pockets.geometry.camera import PinholeCamera
-from pix2pockets.geometry.homography import apply_homography, camera_from_homography, fit_homography
+from pix2pockets.geometry.homography import camera_from_homography, fit_homography
 from pix2pockets.geometry.table import INCH, TABLE_PRESETS, TableSpec
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.fit import TableFit, diamond_height, validate_corners
@@ -309,7 +309,6 @@ def outline_residual_px(fit: TableFit, corners_px: np.ndarray, offset: float = C
 
 __all__ = [
     "CUSHION_WIDTH",
-    "apply_homography",
     "camera_from_outline",
     "fit_outline",
     "head_rail_convention",

@@ -1,0 +1,171 @@
+"""One table estimate from every cue a photo offers: the diamonds, the cloth outline and the balls on it.
+
+:func:`estimate_table` fits the table from the diamonds (:func:`~pix2pockets.vision.table.fit.fit_table`, the
+rail sights as today) and from the cloth (:func:`~pix2pockets.vision.table.cloth.find_cloth` and
+:func:`~pix2pockets.vision.table.outline_fit.fit_outline`, for the many tables with no sights or with sights too
+small to see). Where both give a table, the one that explains more of the cues wins (:func:`explained_cues`): the
+diamonds it reprojects within a tolerance, the cloth outline corners it lands on, and the balls it puts on the
+playing surface. Agreeing fits keep the diamond fit (its points are sharper than the cloth's edges), marked
+``"diamonds+cloth"``.
+
+Example:
+    >>> fit = estimate_table(rgb, detections, (w, h))  # doctest: +SKIP
+    >>> fit.source, fit.size_source  # doctest: +SKIP
+    ('cloth', 'balls')
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import numpy as np
+
+from pix2pockets.geometry.table import TableSpec
+from pix2pockets.vision.detect.detections import Detections
+from pix2pockets.vision.table.cloth import ClothOutline, find_cloth
+from pix2pockets.vision.table.errors import TableFitError
+from pix2pockets.vision.table.fit import TableFit, diamond_height, fit_table
+from pix2pockets.vision.table.outline_fit import CUSHION_WIDTH, fit_outline, outline_rectangle
+from pix2pockets.vision.table.pixel_aspect import pixel_aspect_of_photo, snapped_aspect
+
+CUES = ("diamonds", "cloth", "all")
+"""What :func:`estimate_table` may fit the table to."""
+MIN_BALL_SCORE = 0.3  # balls at least this sure seed the cloth colour and measure the table
+CORNER_TOLERANCE = 0.03
+"""A fit lands on a cloth corner within this fraction of the image diagonal."""
+DIAMOND_TOLERANCE = 0.01
+"""A fit explains a diamond within this fraction of the image diagonal."""
+
+
+@dataclass(frozen=True, slots=True)
+class CueScore:
+    """The cues a fitted table explains (:func:`explained_cues`).
+
+    Attributes:
+        diamonds: detected diamonds within :data:`DIAMOND_TOLERANCE` of a projected diamond.
+        corners: cloth-outline corners within :data:`CORNER_TOLERANCE` of the fit's outline corners.
+        balls: ball detections whose centres fall on the playing surface.
+    """
+
+    diamonds: int
+    corners: int
+    balls: int
+
+    @property
+    def total(self) -> float:
+        """One number to rank fits: a diamond and a ball count one each, a corner two."""
+        return self.diamonds + 2.0 * self.corners + self.balls
+
+
+def explained_cues(
+    fit: TableFit, diamonds: np.ndarray, cloth: ClothOutline | None, ball_centres: np.ndarray
+) -> CueScore:
+    """How many of the photo's cues ``fit`` explains: diamonds (m, 2) [px], the cloth outline's corners and the
+    ball box centres (n, 2) [px]."""
+    diag = math.hypot(*fit.camera.image_size)
+    spec = fit.spec
+    n_diamonds = 0
+    if len(diamonds):
+        proj = fit.camera.project_table(spec.diamonds, diamond_height(spec))
+        d = np.linalg.norm(diamonds[:, None, :] - proj[None], axis=-1)
+        n_diamonds = int(np.sum(np.min(np.nan_to_num(d, nan=np.inf), axis=1) < DIAMOND_TOLERANCE * diag))
+    n_corners = 0
+    if cloth is not None:
+        outline = fit.camera.project_table(outline_rectangle(spec, CUSHION_WIDTH), spec.cushion_height)
+        d = np.linalg.norm(cloth.corners_px[:, None, :] - outline[None], axis=-1)
+        n_corners = int(np.sum(np.min(np.nan_to_num(d, nan=np.inf), axis=1) < CORNER_TOLERANCE * diag))
+    n_balls = 0
+    if len(ball_centres):
+        xy = fit.image_to_table(ball_centres, spec.ball_radius)
+        n_balls = int(np.sum(np.all(np.isfinite(xy), axis=1) & spec.contains(np.nan_to_num(xy, nan=-1e9))))
+    return CueScore(n_diamonds, n_corners, n_balls)
+
+
+def estimate_table(
+    rgb: np.ndarray | None,
+    detections: Detections,
+    image_size: tuple[int, int] | None = None,
+    spec: TableSpec | None = None,
+    cues: str = "all",
+    pixel_aspect: float | None = None,
+) -> TableFit:
+    """Fit the table to every cue in a photo: diamonds, cloth outline, balls.
+
+    Args:
+        rgb: the photo, RGB uint8 (H, W, 3); ``None`` fits the diamonds only.
+        detections: the photo's detections (balls and diamonds, post-processed).
+        image_size: (width, height) [px] (default: the photo's).
+        spec: the table; ``None`` for a cloth fit measures its size from the balls (``size_source="balls"``) and
+            matches diamonds to a 9-foot table.
+        cues: ``"diamonds"``, ``"cloth"`` or ``"all"``.
+        pixel_aspect: width over height of one pixel (default: read from the balls).
+
+    Returns:
+        The :class:`TableFit` explaining the most cues; ``source`` says which it came from.
+
+    Raises:
+        TableFitError: no cue gives a table, with what each cue lacked and what to do.
+    """
+    if cues not in CUES:
+        raise ValueError(f"cues must be one of {CUES}, got {cues!r}")
+    if image_size is None:
+        if rgb is None:
+            raise ValueError("estimate_table needs the photo or its image_size")
+        image_size = (int(rgb.shape[1]), int(rgb.shape[0]))
+    balls = detections[detections.is_ball]
+    sure = balls[balls.own_score >= MIN_BALL_SCORE]
+    diamonds = detections[detections.is_diamond].centres
+    if pixel_aspect is None:
+        if rgb is not None:
+            pixel_aspect = pixel_aspect_of_photo(rgb, balls.boxes, balls.own_score)
+        else:
+            from pix2pockets.vision.table.pixel_aspect import pixel_aspect_of_balls
+
+            pixel_aspect = pixel_aspect_of_balls(balls.boxes, balls.own_score)
+    aspect = snapped_aspect(float(pixel_aspect))
+
+    fits: list[TableFit] = []
+    reasons: list[str] = []
+    if cues in ("diamonds", "all"):
+        try:
+            fit = fit_table(detections, image_size, spec, pixel_aspect=aspect)
+            fits.append(fit if spec is None else replace(fit, size_source="given"))
+        except TableFitError as err:
+            reasons.append(f"diamonds: {_reason(err)}")
+    cloth: ClothOutline | None = None
+    if cues in ("cloth", "all") and rgb is not None:
+        try:
+            cloth = find_cloth(rgb, sure.boxes)
+            fits.append(
+                fit_outline(
+                    cloth.corners_px,
+                    image_size,
+                    spec,
+                    sure.boxes,
+                    diamonds,
+                    cloth.pocket_darkness,
+                    aspect,
+                )
+            )
+        except TableFitError as err:
+            reasons.append(f"cloth: {_reason(err)}")
+    if not fits:
+        raise TableFitError(
+            "no table found: " + "; ".join(reasons) + " (show the whole table: its cloth, four cushions and pockets"
+            + (", or the rails with their sights" if cues != "cloth" else "")
+            + ")"
+        )
+    if len(fits) == 1:
+        return fits[0]
+    centres = sure.centres
+    scores = [explained_cues(f, diamonds, cloth, centres) for f in fits]
+    diamond_fit, cloth_fit = fits
+    if scores[0].corners >= 3:  # the diamonds' table lies on the cloth outline too
+        return replace(diamond_fit, source="diamonds+cloth")
+    return diamond_fit if scores[0].total >= scores[1].total else cloth_fit
+
+
+def _reason(err: TableFitError) -> str:
+    text = str(err)
+    return text.removeprefix("no table found: ")
