@@ -15,7 +15,7 @@ import numpy as np
 from pix2pockets.vision.classes import BALL_IDS
 from pix2pockets.vision.metrics.yolo_data import LabelledImage
 from pix2pockets.vision.stages.ball_refiner import BALL_REFINE_CROP_SIZE, box_targets, crop_for_refiner
-from pix2pockets.vision.train.crop_data import collect_from_images, degrade_crops
+from pix2pockets.vision.train.crop_data import collect_box_crops, degrade_crops
 
 
 @dataclass(frozen=True, slots=True)
@@ -103,7 +103,4 @@ def collect_ball_box_crops(
     def per_image(image, item, cmap, rng):
         return image_ball_box_crops(image, item, cmap, rng, cfg)
 
-    crops, targets = collect_from_images(sources, read_rgb, seed, per_image, "ball crops", progress)
-    if not len(targets):
-        raise ValueError("no labelled balls (classes cue, black, solid, stripe) in these datasets")
-    return crops, targets.astype(np.float32)
+    return collect_box_crops(sources, read_rgb, seed, per_image, "balls (classes cue, black, solid, stripe)", progress)

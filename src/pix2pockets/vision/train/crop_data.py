@@ -157,6 +157,25 @@ def collect_from_images(
     return np.concatenate(crops), np.concatenate(targets)
 
 
+def collect_box_crops(
+    sources: Sequence[tuple[LabelledImage, dict[int, int] | None]],
+    read_rgb,
+    seed: int,
+    per_image: PerImageCrops,
+    what: str,
+    progress: bool = False,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Crops and float32 box targets of a refiner's `per_image` over many images (:func:`collect_from_images`).
+
+    Raises:
+        ValueError: if no image has a labelled `what` ("balls (classes cue, black, solid, stripe)").
+    """
+    crops, targets = collect_from_images(sources, read_rgb, seed, per_image, f"{what.split()[0]} crops", progress)
+    if not len(targets):
+        raise ValueError(f"no labelled {what} in these datasets")
+    return crops, targets.astype(np.float32)
+
+
 def collect_crops(
     sources: Sequence[tuple[LabelledImage, dict[int, int] | None]],
     read_rgb,

@@ -15,7 +15,7 @@ import numpy as np
 from pix2pockets.vision.classes import DIAMOND_ID
 from pix2pockets.vision.metrics.yolo_data import LabelledImage
 from pix2pockets.vision.stages.diamond_refiner import DIAMOND_CROP_SIZE, box_targets, crop_diamonds, diamond_crop_sides
-from pix2pockets.vision.train.crop_data import collect_from_images, degrade_crops
+from pix2pockets.vision.train.crop_data import collect_box_crops, degrade_crops
 
 
 @dataclass(frozen=True, slots=True)
@@ -99,7 +99,4 @@ def collect_diamond_crops(
     def per_image(image, item, cmap, rng):
         return image_diamond_crops(image, item, cmap, rng, cfg)
 
-    crops, targets = collect_from_images(sources, read_rgb, seed, per_image, "diamond crops", progress)
-    if not len(targets):
-        raise ValueError("no labelled diamonds (class 'dot') in these datasets")
-    return crops, targets.astype(np.float32)
+    return collect_box_crops(sources, read_rgb, seed, per_image, "diamonds (class 'dot')", progress)

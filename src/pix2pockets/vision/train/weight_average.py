@@ -1,8 +1,9 @@
 """Weight averaging of two ONNX models with the same graph (a "model soup", Wortsman et al. 2022).
 
 Fine-tuning the detector on more renders raises its synthetic scores but can cost real-photo accuracy; the
-average of the weights of the starting and the fine-tuned model keeps both (``docs/detector.md``). The exported detector folds batch norm into its convolutions, so the average is taken over the
-folded weights: the result is a network between the two, not the average of their outputs.
+average of the weights of the starting and the fine-tuned model keeps both (``docs/detector.md``). The exported
+detector folds batch norm into its convolutions, so the average is taken over the folded weights: the result is a
+network between the two, not the average of their outputs.
 """
 
 from __future__ import annotations
