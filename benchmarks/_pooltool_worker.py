@@ -1,6 +1,6 @@
 """Run shots in pooltool (its own venv; see compare_pooltool.py). Not imported by the project.
 
-Usage: /work/venv-pooltool/bin/python benchmarks/_pooltool_worker.py IN.json OUT.json
+Usage: POOLTOOL_PYTHON benchmarks/_pooltool_worker.py IN.json OUT.json
 
 IN: table size, ball constants and cases (ball centres in the pix2pockets table frame, ball 0 the cue
 ball, with its initial velocity and spin after the strike). pooltool's frame has the long axis along +y,

@@ -2,7 +2,7 @@
 
 Usage:
     PYTHONPATH=src python benchmarks/compare_pooltool.py [--shots 300] [--json OUT.json]
-                                                         [--pooltool-python /work/venv-pooltool/bin/python]
+                                                         --pooltool-python venv-pooltool/bin/python
 
 pooltool 0.6.0 lives in its own venv (see docs/benchmarks-physics.md for the install). Both engines get
 the same layouts and the same initial cue-ball velocity and spin (our strike model; pooltool's cue strike
@@ -54,7 +54,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--shots", type=int, default=300)
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--pooltool-python", default="/work/venv-pooltool/bin/python")
+    parser.add_argument("--pooltool-python", required=True, help="python of a venv with pooltool installed")
     parser.add_argument("--json", type=Path, default=None)
     args = parser.parse_args(argv)
     if not Path(args.pooltool_python).exists():

@@ -7,7 +7,7 @@ NO=${2:-1000}
 NS=${3:-1000}
 NR=${4:-1000}
 export OMP_NUM_THREADS=1 PYTHONPATH=src
-PY=${PY:-/work/venv/bin/python}
+PY=${PY:-python}
 mkdir -p "$OUT"
 ev() { # name args...
   local name=$1; shift

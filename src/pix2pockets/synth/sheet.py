@@ -3,7 +3,7 @@
 Usage::
 
     python -m pix2pockets.synth.sheet --out docs/synth_examples.png \\
-        --real /work/shared/data/real-snooker-vision/train/images --seed 0
+        --real ../shared/data/real-snooker-vision/train/images --seed 0
 """
 
 from __future__ import annotations
@@ -71,7 +71,7 @@ def contact_sheet(seeds: Sequence[int], real_paths: Sequence[Path], size: tuple[
 def main(argv: Sequence[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description="contact sheet of synthetic renders beside real photos")
     parser.add_argument("--out", required=True, help="output PNG")
-    parser.add_argument("--real", default="/work/shared/data/real-snooker-vision/train/images", help="real photo dir")
+    parser.add_argument("--real", required=True, help="folder of real photos (e.g. the snooker-vision train images)")
     parser.add_argument("--seed", type=int, default=0, help="first render seed (12 consecutive seeds)")
     args = parser.parse_args(argv)
     real_dir = Path(args.real)
