@@ -193,7 +193,8 @@ def test_render_human_headless(monkeypatch: pytest.MonkeyPatch) -> None:
     monkeypatch.setenv("SDL_VIDEODRIVER", "dummy")
     env = _env("two", render_mode="human", render_width=300)
     env.reset(seed=0)
-    env.step(np.array([100, 3]))
+    obs, *_ = env.step(np.array([100, 3]))
+    assert env.observation_space.contains(obs)
     env.close()
 
 

@@ -52,7 +52,8 @@ def test_bad_ball():
 
 
 def test_touching_balls_allowed():
-    TableLayout((Ball.numbered(0), Ball.numbered(1)), [[1.0, 0.5], [1.0 + 2 * R, 0.5]])
+    lay = TableLayout((Ball.numbered(0), Ball.numbered(1)), [[1.0, 0.5], [1.0 + 2 * R, 0.5]])
+    assert np.linalg.norm(lay.positions[1] - lay.positions[0]) == pytest.approx(2 * R)
 
 
 def test_positions_read_only():
@@ -119,4 +120,5 @@ def test_load_errors(tmp_path):
 
 def test_dict_is_json():
     lay = random_layout(np.random.default_rng(0), [0, 8])
-    json.dumps(layout_to_dict(lay))
+    doc = json.loads(json.dumps(layout_to_dict(lay)))
+    assert doc == layout_to_dict(lay)
