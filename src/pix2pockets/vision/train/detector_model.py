@@ -31,7 +31,7 @@ from pix2pockets.vision.detect.heads import (
 from pix2pockets.vision.train.backbone import TAP_CHANNELS, MobileNetV2Features
 
 
-def _sep_conv(c_in: int, c_out: int) -> nn.Sequential:
+def sep_conv(c_in: int, c_out: int) -> nn.Sequential:
     """Depthwise 3x3 + pointwise 1x1, each with batch norm and ReLU."""
     return nn.Sequential(
         nn.Conv2d(c_in, c_in, 3, 1, 1, groups=c_in, bias=False),
@@ -65,9 +65,9 @@ class CenterNet(nn.Module):
         self.lat16 = nn.Conv2d(TAP_CHANNELS[16], width, 1)
         self.lat8 = nn.Conv2d(TAP_CHANNELS[8], width, 1)
         self.lat4 = nn.Conv2d(TAP_CHANNELS[4], width, 1)
-        self.smooth8 = _sep_conv(width, width)
-        self.smooth4 = _sep_conv(width, width)
-        self.head = nn.Sequential(_sep_conv(width, width), nn.Conv2d(width, N_OUT, 1))
+        self.smooth8 = sep_conv(width, width)
+        self.smooth4 = sep_conv(width, width)
+        self.head = nn.Sequential(sep_conv(width, width), nn.Conv2d(width, N_OUT, 1))
         self.register_buffer("mean", torch.tensor(IMAGENET_MEAN).view(1, 3, 1, 1), persistent=False)
         self.register_buffer("std", torch.tensor(IMAGENET_STD).view(1, 3, 1, 1), persistent=False)
         # Heatmap logits start at a low prior probability so the focal loss does not explode at step 0.
