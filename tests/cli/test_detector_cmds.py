@@ -394,3 +394,21 @@ def test_train_ball_numbers_refuses_data_without_sidecars(toy, tmp_path, capsys)
     args = ["train-ball-numbers", "--data", str(toy), "--out", str(tmp_path / "n"), "--epochs", "1", "--quiet"]
     assert main(args) == 2
     assert "sidecar" in capsys.readouterr().err
+
+
+def test_train_table_tiny_run_writes_a_model_the_pipeline_reads(tmp_path, capsys):
+    pytest.importorskip("torch")
+    from pix2pockets.synth import write_dataset
+    from pix2pockets.vision.table.keypoints import TableModel
+
+    data = tmp_path / "renders"
+    write_dataset(data, 6, seed=3, size=(192, 108), split=(0.5, 0.5, 0))
+    out = tmp_path / "table"
+    args = ["train-table", "--data", str(data), "--out", str(out), "--epochs", "1", "--batch", "2", "--device", "cpu"]
+    assert main(args) == 0
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["history"][0]["epoch"] == 1 and 0.0 <= metrics["history"][0]["surface_iou"] <= 1.0
+    cues = TableModel(out / "table.onnx").read(np.zeros((108, 192, 3), dtype=np.uint8))
+    assert cues.surface.ndim == 2 and cues.surface.shape[1] == 192 // 4 * 2
+    assert main(["train-table", "--out", str(tmp_path / "x")]) == 2  # no data: a clean error
+    assert "give at least one --data" in capsys.readouterr().err

@@ -1,0 +1,185 @@
+"""The playing surface's outline from the table model: four cushion lines, their corners and the side pockets.
+
+The table model (:mod:`pix2pockets.vision.table.keypoints`) marks the playing surface cell by cell. Its largest
+region is the table; the region's boundary runs along the cushion noses except where the frame cuts it. The
+smallest quadrilateral enclosing the region's hull splits the boundary among four sides, and a robust line through
+each side's boundary points is a cushion line. A side the boundary does not follow (the frame edge cuts it) is
+kept from the quadrilateral and marked unseen. Side-pocket peaks near the middle of a side mark it as a long rail.
+
+Example:
+    >>> outline = surface_outline(model.read(rgb))  # doctest: +SKIP
+    >>> outline.corners_px, outline.seen, outline.side_pocket  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+from pix2pockets.vision.table.cloth import enclosing_quad, tls_fit
+from pix2pockets.vision.table.errors import TableFitError
+from pix2pockets.vision.table.keypoints import TableCues, pixel_of_cell
+
+SURFACE_THRESHOLD = 0.5
+UPSAMPLE = 4
+"""The surface chances are interpolated this many times finer before their 0.5 level is traced."""
+MIN_AREA_FRACTION = 0.02
+"""Smallest surface region, as a fraction of the photo."""
+FRAME_CELLS = 1.5
+"""Boundary cells this close to the photo's edge belong to the frame, not to a cushion."""
+LINE_TOL_CELLS = 1.5
+"""Boundary points within this many cells of a side's line support it."""
+SEEN_SUPPORT = 0.3
+"""Share of a side's in-photo length the boundary must follow for the side to count as seen."""
+CORNER_REACH = 0.12
+"""A corner peak replaces the corner of the region's lines when it lies within this share of the shortest side."""
+CORNER_MIN_SCORE = 0.4
+SIDE_POCKET_REACH = 0.2
+"""A side-pocket peak counts for a side when it lies within this share of the side's length of its middle and
+within this share of the side's length of its line."""
+
+
+@dataclass(frozen=True, slots=True, eq=False)
+class SurfaceOutline:
+    """The playing surface seen in a photo.
+
+    Attributes:
+        corners_px: (4, 2) its corners [px], in order around it; side ``k`` runs from corner ``k`` to ``k + 1``.
+        seen: (4,) whether the photo shows each side (the frame edge does not cut it away).
+        from_peak: (4,) whether each corner is the model's corner peak (read to about a pixel) rather than the
+            meeting point of two lines through the region's edge (a few pixels).
+        side_pocket: (4,) the best side-pocket peak score near each side's middle (0: none).
+        mask: (H, W) bool, the surface region at the photo's resolution.
+        confidence: mean surface chance inside the region, times the share of the quadrilateral it fills.
+    """
+
+    corners_px: np.ndarray
+    seen: np.ndarray
+    from_peak: np.ndarray
+    side_pocket: np.ndarray
+    mask: np.ndarray
+    confidence: float
+
+
+def _largest_region(surface: np.ndarray, threshold: float) -> np.ndarray:
+    on = (surface >= threshold).astype(np.uint8)
+    n, labels, stats, _ = cv2.connectedComponentsWithStats(on, connectivity=8)
+    if n <= 1:
+        return np.zeros_like(on)
+    k = 1 + int(np.argmax(stats[1:, cv2.CC_STAT_AREA]))
+    region = (labels == k).astype(np.uint8)
+    contours, _ = cv2.findContours(region, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    cv2.drawContours(region, contours, -1, 1, thickness=cv2.FILLED)  # balls and players leave no holes
+    return region
+
+
+def _side_lines(points: np.ndarray, quad: np.ndarray, tol: float) -> tuple[np.ndarray, np.ndarray]:
+    """Lines (4, 3) through the boundary points nearest each side of ``quad``, and each side's support (share of
+    its length covered by them); a side with too few points keeps the quadrilateral's line."""
+    lines, support = np.zeros((4, 3)), np.zeros(4)
+    for k in range(4):
+        a, b = quad[k], quad[(k + 1) % 4]
+        d = b - a
+        length = float(np.hypot(*d))
+        normal = np.array([-d[1], d[0]]) / max(length, 1e-9)
+        line = np.array([normal[0], normal[1], -normal @ a])
+        for _ in range(3):  # refit on the points near the current line
+            t = (points - a) @ d / max(length**2, 1e-9)
+            near = (np.abs(points @ line[:2] + line[2]) <= tol) & (t > -0.05) & (t < 1.05)
+            if near.sum() < 6:
+                break
+            line = tls_fit(points[near])
+        t = (points - a) @ d / max(length**2, 1e-9)
+        near = (np.abs(points @ line[:2] + line[2]) <= tol) & (t > 0) & (t < 1)
+        if near.sum() >= 6:
+            covered = np.unique(np.floor(t[near] * 50)).size / 50
+            support[k] = covered
+        lines[k] = line if near.sum() >= 6 else np.array([normal[0], normal[1], -normal @ a])
+    return lines, support
+
+
+def _corners_of(lines: np.ndarray) -> np.ndarray:
+    out = np.full((4, 2), np.nan)
+    for k in range(4):
+        p = np.cross(lines[k - 1], lines[k])
+        if abs(p[2]) > 1e-12:
+            out[k] = p[:2] / p[2]
+    return out
+
+
+def _snap_to_peaks(corners: np.ndarray, cues: TableCues) -> tuple[np.ndarray, np.ndarray]:
+    """Corners moved to the model's corner peaks where one is near (the peaks are read to about a pixel, the region's
+    edge to a few); and which corners moved."""
+    sides = np.linalg.norm(np.roll(corners, -1, axis=0) - corners, axis=1)
+    reach = CORNER_REACH * float(np.min(sides))
+    out, moved = corners.copy(), np.zeros(4, dtype=bool)
+    used: set[int] = set()
+    for k in range(4):
+        if not len(cues.corners_px):
+            break
+        d = np.linalg.norm(cues.corners_px - corners[k], axis=1)
+        j = int(np.argmin(d))
+        if d[j] <= reach and cues.corner_scores[j] >= CORNER_MIN_SCORE and j not in used:
+            out[k], moved[k] = cues.corners_px[j], True
+            used.add(j)
+    return out, moved
+
+
+def surface_outline(cues: TableCues, threshold: float = SURFACE_THRESHOLD) -> SurfaceOutline:
+    """The playing surface's four sides from the table model's cues.
+
+    Raises:
+        TableFitError: no surface region large enough, or none a quadrilateral encloses.
+    """
+    box = cues.letterbox
+    w, h = cues.image_size
+    region = _largest_region(cues.surface, threshold)
+    cell_area = (4.0 / box.scale) ** 2
+    if region.sum() * cell_area < MIN_AREA_FRACTION * w * h:
+        raise TableFitError(
+            "no table found: no playing surface in the photo (show the table's cloth and at least three cushions)"
+        )
+    # the region's edge at sub-cell precision: the 0.5 level of the chances, interpolated between cell centres
+    fine = cv2.resize(
+        cues.surface.astype(np.float32) * region, None, fx=UPSAMPLE, fy=UPSAMPLE, interpolation=cv2.INTER_LINEAR
+    )
+    contours, _ = cv2.findContours((fine >= threshold).astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
+    cells = (max(contours, key=len).reshape(-1, 2).astype(float) + 0.5) / UPSAMPLE - 0.5
+    # the photo's edge in cells: boundary there is the frame's
+    w_cells, h_cells = (w * box.scale - 1.5) / 4, (h * box.scale - 1.5) / 4
+    on_frame = (
+        (cells[:, 0] <= FRAME_CELLS)
+        | (cells[:, 1] <= FRAME_CELLS)
+        | (cells[:, 0] >= w_cells - FRAME_CELLS)
+        | (cells[:, 1] >= h_cells - FRAME_CELLS)
+    )
+    points = box.to_image(pixel_of_cell(cells))
+    hull = cv2.convexHull(points.astype(np.float32)).reshape(-1, 2).astype(float)
+    quad = enclosing_quad(hull)
+    if quad is None:
+        raise TableFitError("no table found: the playing surface has no four sides")
+    tol = LINE_TOL_CELLS * 4.0 / box.scale
+    lines, support = _side_lines(points[~on_frame], quad, tol)
+    corners = _corners_of(lines)
+    if not np.all(np.isfinite(corners)):
+        corners = quad
+    corners, from_peak = _snap_to_peaks(corners, cues)
+    side_pocket = np.zeros(4)
+    for k in range(4):
+        a, b = corners[k], corners[(k + 1) % 4]
+        length = float(np.hypot(*(b - a)))
+        for p, score in zip(cues.sides_px, cues.side_scores, strict=True):
+            off_middle = np.hypot(*(p - 0.5 * (a + b)))
+            if off_middle <= SIDE_POCKET_REACH * length:
+                side_pocket[k] = max(side_pocket[k], float(score))
+    mask = cv2.resize(region, (cues.surface.shape[1] * 4, cues.surface.shape[0] * 4), interpolation=cv2.INTER_NEAREST)
+    M = np.array([[1 / box.scale, 0, 0], [0, 1 / box.scale, 0]], dtype=np.float64)
+    mask = cv2.warpAffine(mask, M, (w, h), flags=cv2.INTER_NEAREST).astype(bool)
+    inside = np.zeros((h, w), dtype=np.uint8)
+    if np.all(np.abs(corners) < 1e6):
+        cv2.fillConvexPoly(inside, np.round(corners).astype(np.int32), 1)
+    fill = float((mask & inside.astype(bool)).sum()) / max(float(inside.sum()), 1.0)
+    chance = float(cues.surface[region > 0].mean())
+    return SurfaceOutline(corners, support >= SEEN_SUPPORT, from_peak, side_pocket, mask, chance * min(fill, 1.0))
