@@ -117,3 +117,18 @@ def test_synth_cameras_option(tmp_path, capsys):
     assert main(["synth", "--n", "1", "--out", str(bad), "--size", "64x36", "--cameras", "drone", "--no-progress"]) == 2
     assert "unknown camera kind 'drone'" in capsys.readouterr().err
     assert not bad.exists()
+
+
+def test_synth_portrait_option(tmp_path):
+    out = tmp_path / "upright"
+    args = ["synth", "--n", "3", "--out", str(out), "--size", "96x54", "--cameras", "phone", "--portrait", "1"]
+    assert main([*args, "--no-progress"]) == 0
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert manifest["portrait"] == 1.0 and manifest["size"] == [96, 54]
+    for item in manifest["images"]:
+        meta = json.loads((out / item["image"].replace("images", "meta")).with_suffix(".json").read_text())
+        assert meta["image_size"] == [54, 96] and meta["camera"]["orientation"] == "portrait"
+        rows = (out / item["image"].replace("images", "labels")).with_suffix(".txt").read_text().splitlines()
+        assert all(0 <= float(v) <= 1 for row in rows for v in row.split()[1:])  # normalised by the upright size
+    with pytest.raises(ValueError, match="portrait"):
+        write_dataset(tmp_path / "bad", 1, size=SIZE, portrait=2.0)

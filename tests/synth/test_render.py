@@ -13,6 +13,8 @@ from pix2pockets.synth.renderer import parse_size, scene_of, trace, trace_withou
 
 SIZE = (320, 180)
 SEEDS = list(range(8))
+SIGHTED = [s for s in range(40) if scene_of(s).has_sights][:3]
+"""Seeds whose tables carry sights (diamonds)."""
 
 
 @pytest.fixture(scope="module")
@@ -95,14 +97,14 @@ def test_diamonds_are_labelled_only_when_they_show_in_the_photo(renders, monkeyp
             )
     assert max(signals) > 50 and hidden >= 1  # plain sights show strongly; some are there but not seen
     monkeypatch.setattr(labels, "DIAMOND_MIN_SIGNAL", 256)
-    assert not any(d["labelled"] for d in render(SEEDS[0], SIZE).labels["diamonds"])
+    assert not any(d["labelled"] for d in render(SIGHTED[0], SIZE).labels["diamonds"])
 
 
 def test_leaving_the_diamonds_out_changes_only_diamond_pixels():
-    rend = render(SEEDS[1], SIZE)
+    rend = render(SIGHTED[1], SIZE)
     c = rend.labels["camera"]
     cam = PinholeCamera(np.array(c["K"]), np.array(c["R"]), np.array(c["t"]), tuple(c["image_size"]))
-    scene = scene_of(SEEDS[1])
+    scene = scene_of(SIGHTED[1])
     raw, ids, _, _ = trace(scene, cam)
     raw_plain, ids_plain, _, _ = trace(scene, cam, diamonds=False)
     on_diamond = (ids >= sc.ID_DIAMOND0) & (ids < sc.ID_DIAMOND0 + 18)
@@ -113,7 +115,7 @@ def test_leaving_the_diamonds_out_changes_only_diamond_pixels():
 
 
 def test_retracing_only_around_the_diamonds_matches_a_full_trace_without_them():
-    for seed in SEEDS[:2]:
+    for seed in SIGHTED[:2]:
         rend = render(seed, SIZE)
         c = rend.labels["camera"]
         cam = PinholeCamera(np.array(c["K"]), np.array(c["R"]), np.array(c["t"]), tuple(c["image_size"]))
@@ -167,16 +169,21 @@ def test_bad_size(bad):
 
 
 def test_rail_cap_step_closes_the_gap_above_the_cushion():
-    """In low views the cap's inner step face sits right above the cushion top: no cloth, nose or room shows
-    through between them (before the step face was modelled, almost every column did)."""
+    """In low views the cap's inner step face sits right above a far cushion's top: no cloth, nose or room shows
+    through between them (without the step face, almost every column would)."""
     gaps = columns = 0
     for seed in range(3):
         ids = render(seed, (320, 180), camera_kind="low").ids
         for col in ids.T:
             rows = np.flatnonzero(col == sc.ID_CUSHION)
-            if len(rows) == 0 or rows[0] == 0:
+            if len(rows) == 0 or rows[0] == 0 or (col[: rows[0]] == sc.ID_CLOTH).any():
                 continue
+            end = rows[0]
+            while end + 1 < len(col) and col[end + 1] == sc.ID_CUSHION:
+                end += 1
+            if end + 1 >= len(col) or col[end + 1] not in (sc.ID_NOSE, sc.ID_CLOTH):
+                continue  # a near cushion (the cloth lies above it in the image) or a cut-off one
             columns += 1
             gaps += col[rows[0] - 1] in (sc.ID_NOSE, sc.ID_FLOOR, sc.ID_WALL, sc.ID_CLOTH)
     assert columns > 300
-    assert gaps < 0.2 * columns
+    assert gaps < 0.1 * columns

@@ -39,6 +39,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         help=f"draw each camera among these kinds, comma-separated: {', '.join(CAMERA_KINDS)}, or 'broadcast' "
         f"({','.join(BROADCAST_KINDS)}; default: all kinds)",
     )
+    parser.add_argument(
+        "--portrait",
+        type=float,
+        default=0.0,
+        metavar="SHARE",
+        help="share of phone views held upright, rendered at HxW (default 0: every frame is --size)",
+    )
     parser.add_argument("--force", action="store_true", help="overwrite a non-empty output folder")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     parser.set_defaults(func=run)
@@ -62,6 +69,7 @@ def run(args: argparse.Namespace) -> int:
         only_split=args.only_split,
         layout_mode=args.layout,
         camera_kinds=args.cameras,
+        portrait=args.portrait,
     )
     counts = ", ".join(f"{k} {v}" for k, v in manifest["counts"].items())
     print(f"wrote {sum(manifest['counts'].values())} images to {args.out} ({counts})")

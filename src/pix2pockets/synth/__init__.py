@@ -2,7 +2,8 @@
 
 Public API:
     render_sample(seed, size) -> (RGB uint8 image, label dict)
-    render(seed, size) -> Render (image, id buffer, occluder mask, labels)
+    render(seed, size, portrait=share) -> Render (image, id buffer, occluder mask, labels); that share of phone
+        views upright at (height, width)
     render_views(seed, size) -> [Render] for one layout seen from top, ~45 degrees and front
     write_dataset(out_dir, n, seed, ...) -> manifest (YOLO dataset in the Roboflow layout + JSON labels)
 """

@@ -1,5 +1,6 @@
 """Camera sampling like real pool footage: broadcast top-down, high 45-degree, low front/side, camera
-jibs, and hand-held phone photos (standing or crouched: tilt, roll, partial crops, close and far).
+jibs, and hand-held phone photos (standing, sitting or crouched beside a rail or off a corner: tilt, roll, partial
+crops, close and far, landscape or portrait).
 
 Every camera is a :class:`~pix2pockets.geometry.camera.PinholeCamera` built with ``look_at``.
 """
@@ -23,6 +24,12 @@ CAMERA_KINDS: dict[str, float] = {
     "phone_low": 0.08,
 }
 """Camera kinds and their sampling probabilities."""
+
+PHONE_KINDS = ("phone", "phone_low")
+"""Hand-held kinds: the ones that may be turned to portrait."""
+
+OWNED_TABLE_PHONE_WEIGHT = 2.0
+"""Pub and home tables are photographed by phones: their phone kinds' weights are multiplied by this."""
 
 BROADCAST_KINDS = ("top", "high", "jib")
 """The kinds a TV broadcast shows the whole table from: overhead, a high end view, a camera jib."""
@@ -55,6 +62,14 @@ def camera_kinds(names: str | Sequence[str]) -> tuple[str, ...]:
 
 VIEW_KINDS = ("top", "high", "front")
 """The three views of a multi-view set (top-down, about 45 degrees, low from an end rail)."""
+
+
+PHONE_MIN_COVERAGE = 0.12
+"""A phone view is kept when the cloth covers at least this share of the frame."""
+PHONE_LOW_LIFT = 0.3
+"""Phones held lower than this above the cloth [m] see it as a thin band ..."""
+PHONE_LOW_MIN_COVERAGE = 0.06
+"""... and are kept from this cloth share of the frame."""
 
 
 def focal_from_hfov(width: int, hfov: float) -> float:
@@ -134,6 +149,37 @@ def _side_or_end_azimuth(rng: np.random.Generator, spread: float) -> float:
     return base + rng.normal(0.0, spread)
 
 
+def draw_camera_kind(rng: np.random.Generator, kind: str | Sequence[str] | None = None, owned: bool = False) -> str:
+    """One camera kind: ``kind`` itself when it is one name, else drawn among the given kinds (all of
+    :data:`CAMERA_KINDS` for ``None``) with their :data:`CAMERA_KINDS` probabilities; ``owned`` (a pub or home
+    table) weights the phone kinds by :data:`OWNED_TABLE_PHONE_WEIGHT`."""
+    if isinstance(kind, str):
+        return kind
+    keys = list(CAMERA_KINDS) if kind is None else list(camera_kinds(kind))
+    p = np.array([CAMERA_KINDS[k] * (OWNED_TABLE_PHONE_WEIGHT if owned and k in PHONE_KINDS else 1.0) for k in keys])
+    return keys[int(rng.choice(len(keys), p=p / p.sum()))]
+
+
+def _phone_eye(rng: np.random.Generator, spec: TableSpec, rail: float, lift: float) -> np.ndarray:
+    """Where a person holds a phone, ``lift`` [m] above the cloth: beside a rail or off a corner, 0.05-1.5 m out
+    from the rail's outer edge, or leaning over the rail when high enough [m]."""
+    L, W = spec.length, spec.width
+    out = rng.uniform(0.05, 1.5)
+    if lift > 0.4 and rng.random() < 0.15:  # leaning over the rail
+        out = -rng.uniform(0.0, rail + 0.25)
+    if rng.random() < 0.35:  # off a corner
+        sx, sy = rng.choice([-1.0, 1.0], 2)
+        a = math.atan2(sy, sx) + rng.normal(0.0, 0.3)
+        corner = np.array([L / 2 + sx * L / 2, W / 2 + sy * W / 2])
+        return corner + (rail * math.sqrt(2) + out) * np.array([math.cos(a), math.sin(a)])
+    s = rng.uniform(-0.05, 1.05)
+    if rng.random() < L / (L + W):  # a long rail
+        sy = 1.0 if rng.random() < 0.5 else -1.0
+        return np.array([s * L, W / 2 + sy * (W / 2 + rail + out)])
+    sx = 1.0 if rng.random() < 0.5 else -1.0
+    return np.array([L / 2 + sx * (L / 2 + rail + out), s * W])
+
+
 def sample_camera(
     rng: np.random.Generator,
     spec: TableSpec,
@@ -146,10 +192,7 @@ def sample_camera(
     """A camera of the given kind or a multi-view kind (``"front"``); given several kinds, or ``None`` (all of
     :data:`CAMERA_KINDS`), one is drawn with the :data:`CAMERA_KINDS` probabilities. ``crop=False`` keeps the
     whole table in a top view. Returns the camera and its kind."""
-    if kind is None or not isinstance(kind, str):
-        keys = list(CAMERA_KINDS) if kind is None else list(camera_kinds(kind))
-        p = np.array([CAMERA_KINDS[k] for k in keys])
-        kind = keys[int(rng.choice(len(keys), p=p / p.sum()))]
+    kind = draw_camera_kind(rng, kind)
     centre = np.array([spec.length / 2, spec.width / 2, 0.0])
     if kind == "top":
         el = math.radians(rng.uniform(80.0, 89.5))
@@ -187,13 +230,13 @@ def sample_camera(
         return cam, kind
     if kind in ("phone", "phone_low"):
         for _ in range(40):
-            # stand somewhere around the table, look at a point on it
-            ang = rng.uniform(-math.pi, math.pi)
-            reach = rng.uniform(0.05, 1.6)
-            ext = np.array([spec.length / 2 + rail + reach, spec.width / 2 + rail + reach])
-            eye_xy = centre[:2] + ext * np.array([math.cos(ang), math.sin(ang)]) * rng.uniform(0.8, 1.1)
+            # stand (or sit) beside a rail or off a corner, look at a point on the table
+            min_cover = PHONE_MIN_COVERAGE
             if kind == "phone":
-                eye_z = floor_z + rng.uniform(1.15, 1.95)
+                eye_z = floor_z + rng.uniform(0.8, 1.95)
+                eye_xy = _phone_eye(rng, spec, rail, eye_z)
+                if eye_z < PHONE_LOW_LIFT:  # held about at rail height: the cloth is a thin band
+                    min_cover = PHONE_LOW_MIN_COVERAGE
                 target = np.array([rng.uniform(0, spec.length), rng.uniform(0, spec.width), 0.0])
                 hfov = rng.uniform(55, 78) if rng.random() < 0.8 else rng.uniform(25, 50)
                 roll = rng.normal(0, 5.0) if rng.random() < 0.85 else rng.uniform(-35, 35)
@@ -213,7 +256,7 @@ def sample_camera(
             cam = PinholeCamera.look_at(
                 eye, target, focal_from_hfov(size[0], math.radians(hfov)), size, roll=math.radians(roll)
             )
-            if table_coverage(cam, spec) >= 0.12:
+            if table_coverage(cam, spec) >= min_cover:
                 return cam, kind
         return sample_camera(rng, spec, size, "jib", floor_z, rail, crop)
     raise ValueError(f"unknown camera kind {kind!r}; choose one of {[*CAMERA_KINDS, 'front']}")

@@ -124,6 +124,7 @@ def write_dataset(
     only_split: str | None = None,
     layout_mode: str | None = None,
     camera_kinds: str | Sequence[str] | None = None,
+    portrait: float = 0.0,
 ) -> dict:
     """Render ``n`` scenes into a YOLO dataset at ``out_dir``.
 
@@ -142,6 +143,8 @@ def write_dataset(
             scene when None.
         camera_kinds: draw each scene's camera among these kinds or groups (``cameras.CAMERA_KINDS``,
             ``cameras.CAMERA_GROUPS``, e.g. ``"broadcast"`` or ``"phone,phone_low"``) instead of all; one random
+            camera per scene only.
+        portrait: share of phone views rendered upright at (height, width) (``render(..., portrait=)``); one random
             camera per scene only.
 
     Returns:
@@ -163,6 +166,10 @@ def write_dataset(
     kinds = None if camera_kinds is None else camera_kinds_of(camera_kinds)
     if kinds is not None and views != 1:
         raise ValueError("camera kinds apply to one random camera per scene (views 1); views 3 are top, 45 deg, front")
+    if not 0.0 <= portrait <= 1.0:
+        raise ValueError(f"portrait must be a share in [0, 1], got {portrait!r}")
+    if portrait > 0 and views != 1:
+        raise ValueError("portrait frames apply to one random camera per scene (views 1)")
     assignment = split_assignment(n, fractions, seed)
     items = []
     iterator = [i for i in range(n) if only_split is None or assignment[i] == only_split]
@@ -174,7 +181,7 @@ def write_dataset(
         for i in iterator:
             s = assignment[i]
             if views == 1:
-                rend = render((seed, i), size, camera_kind=kinds, layout_mode=layout_mode)
+                rend = render((seed, i), size, camera_kind=kinds, layout_mode=layout_mode, portrait=portrait)
                 stem = f"synth_{seed}_{i:06d}"
                 write_sample(tmp, s, stem, rend)
                 items.append({"image": f"{s}/images/{stem}.jpg", "scene": i, "camera": rend.labels["camera"]["kind"]})
@@ -192,6 +199,7 @@ def write_dataset(
             "layout_mode": layout_mode,
             "camera_kinds": None if kinds is None else list(kinds),
             "size": list(size),
+            "portrait": portrait,
             "split": list(fractions),
             "classes": list(CLASS_NAMES),
             "box_convention": (

@@ -141,12 +141,22 @@ def draw_logo(img: np.ndarray, mask: np.ndarray, rng: np.random.Generator) -> No
     mask[max(0, y - th) : y + 4, max(0, x) : x + tw] |= alpha > 0.5
 
 
+def channel_max(img: np.ndarray) -> np.ndarray:
+    """Largest of the three channels per pixel (H, W); elementwise, far faster than ``max(axis=2)``."""
+    return np.maximum(np.maximum(img[..., 0], img[..., 1]), img[..., 2])
+
+
+def channel_mean(img: np.ndarray) -> np.ndarray:
+    """Mean of the three channels per pixel (H, W); elementwise, far faster than ``mean(axis=2)``."""
+    return (img[..., 0] + img[..., 1] + img[..., 2]) / 3
+
+
 def tone_map(rgb: np.ndarray, exposure: float, contrast: float, saturation: float) -> np.ndarray:
     """Exposure, a soft highlight shoulder and saturation/contrast changes; returns [0, 1] float32."""
     x = np.maximum(rgb * exposure, 0.0)
     x = x / (1.0 + 0.3 * x) * 1.3
     x = np.clip(x, 0.0, 1.0) ** (1.0 / contrast)
-    grey = x.mean(axis=2, keepdims=True)
+    grey = channel_mean(x)[..., None]
     x = grey + (x - grey) * saturation
     return np.clip(x, 0.0, 1.0).astype(np.float32)
 
@@ -172,7 +182,7 @@ def camera_pipeline(img: np.ndarray, rng: np.random.Generator, strength: float =
         x = x * (1 - k * r2)[..., None]
         info["vignette"] = round(float(k), 3)
     if rng.random() < 0.35 * strength:  # bloom / glare around highlights and lamps
-        bright = np.clip(x.max(axis=2, keepdims=True) - 0.85, 0.0, None) * x
+        bright = np.clip(channel_max(x)[..., None] - 0.85, 0.0, None) * x
         glow = cv2.GaussianBlur(bright, (0, 0), rng.uniform(2.0, 8.0))
         if glow.ndim == 2:
             glow = glow[..., None]

@@ -16,6 +16,7 @@ from numba import njit
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.synth import scene_codes as sc
 from pix2pockets.synth.scene import Scene
+from pix2pockets.synth.shading import OVAL_AXES, SQUARE_HALF
 from pix2pockets.vision.classes import CLASS_NAMES, DIAMOND_ID, MIN_DIAMOND_BOX_PX
 
 BALL_MIN_VISIBLE = 0.3
@@ -66,11 +67,19 @@ def diamond_outline(scene: Scene, k: int, n: int = 16) -> np.ndarray:
     dr = g[sc.G_DR]
     xy = scene.spec.diamonds[k]
     th = np.linspace(0, 2 * math.pi, n, endpoint=False)
-    if scene.style.get("diamond_shape") == "rhombus":
+    shape = int(scene.shade[sc.S_DIA_SHAPE] + 0.5)
+    long_rail = k < 6 or 9 <= k < 15
+    if shape == sc.SIGHT_RHOMBUS:
         along, across = 1.6 * dr, 0.8 * dr
-        long_rail = k < 6 or 9 <= k < 15
         ax, ay = (along, across) if long_rail else (across, along)
         pts = np.array([[ax, 0], [0, ay], [-ax, 0], [0, -ay]])
+    elif shape == sc.SIGHT_SQUARE:
+        s = SQUARE_HALF * dr
+        pts = np.array([[s, s], [-s, s], [-s, -s], [s, -s]])
+    elif shape == sc.SIGHT_OVAL:
+        along, across = OVAL_AXES[0] * dr, OVAL_AXES[1] * dr
+        ax, ay = (along, across) if long_rail else (across, along)
+        pts = np.column_stack([ax * np.cos(th), ay * np.sin(th)])
     else:
         pts = dr * np.column_stack([np.cos(th), np.sin(th)])
     return np.column_stack([pts + xy, np.full(len(pts), g[sc.G_HR])])
@@ -96,7 +105,7 @@ def _peak_in_box(values: np.ndarray, box: list[float], margin: int) -> int:
 
 
 def camera_dict(cam: PinholeCamera, kind: str) -> dict:
-    """The camera as JSON: intrinsics K, pose (R, t: X_cam = R X_world + t), image size and centre."""
+    """The camera as JSON: intrinsics K, pose (R, t: X_cam = R X_world + t), image size, centre and orientation."""
     return {
         "kind": kind,
         "K": np.round(cam.K, 6).tolist(),
@@ -104,6 +113,7 @@ def camera_dict(cam: PinholeCamera, kind: str) -> dict:
         "t": np.round(cam.t, 9).tolist(),
         "image_size": list(cam.image_size),
         "position_m": np.round(cam.position, 6).tolist(),
+        "orientation": "portrait" if cam.image_size[1] > cam.image_size[0] else "landscape",
     }
 
 
@@ -115,7 +125,7 @@ def build_labels(
     sil_count: np.ndarray,
     diamond_signal: np.ndarray | None = None,
 ) -> dict:
-    """Ball, diamond and corner labels for one render.
+    """Ball, diamond, corner and pocket labels for one render.
 
     Args:
         scene: the rendered scene.
@@ -186,7 +196,8 @@ def build_labels(
             "visible_fraction": 0.0,
             "labelled": False,
         }
-        if np.all(np.isfinite(outline)) and np.all(cam.world_to_camera(diamond_outline(scene, k))[:, 2] > 1e-3):
+        front = np.all(np.isfinite(outline)) and np.all(cam.world_to_camera(diamond_outline(scene, k))[:, 2] > 1e-3)
+        if scene.has_sights and front:  # plain rails keep the sight positions, unlabelled
             area = polygon_area(outline)
             if area < 8.0:
                 if in_frame:
@@ -228,9 +239,54 @@ def build_labels(
         "balls": balls,
         "diamonds": diamonds,
         "corners": corners,
+        "pockets": pocket_labels(scene, cam, ids, occluded),
         "heights_m": {"diamonds": hr, "corners": hc, "ball_centres": r},
         "table": {"name": spec.name, "length_m": spec.length, "width_m": spec.width, "ball_radius_m": r},
     }
+
+
+POCKET_SURFACE_IDS = (sc.ID_CLOTH, sc.ID_HOLE, sc.ID_LINER)
+"""Ids that count as seeing a pocket's mouth point: the cloth there, the hole, or the pocket's liner ring."""
+
+
+def pocket_labels(scene: Scene, cam: PinholeCamera, ids: np.ndarray, occluded: np.ndarray) -> list[dict]:
+    """The six pockets in ``TableSpec.pockets`` order, their mouth centres (``Pocket.aim``) on the cloth.
+
+    Each entry: ``index``, ``name``, ``kind`` (corner | side), ``table_m`` (aim x, y and z = 0 [m]), ``px`` (its
+    projection [px], None behind the camera), ``in_frame``, ``visible`` (the pixel at ``px`` shows the cloth, the
+    hole or the liner and no person, prop or overlay covers it), ``hole_table_m`` (centre of the drawn drop hole
+    at cloth level [m]), ``hole_radius_m`` and ``hole_px`` (the hole centre projected [px]).
+    """
+    w, h = cam.image_size
+    out = []
+    for k, pocket in enumerate(scene.spec.pockets):
+        p3 = np.array([pocket.aim[0], pocket.aim[1], 0.0])
+        p = cam.project(p3)
+        ok = bool(np.all(np.isfinite(p)) and cam.world_to_camera(p3)[2] > 1e-3)
+        in_frame = ok and _inside(p, w, h)
+        visible = False
+        if in_frame:
+            u, v = int(p[0]), int(p[1])
+            visible = bool(ids[v, u] in POCKET_SURFACE_IDS and not occluded[v, u])
+        hole = scene.holes[k]
+        hole3 = np.array([hole[0], hole[1], 0.0])
+        hp = cam.project(hole3)
+        hole_ok = bool(np.all(np.isfinite(hp)) and cam.world_to_camera(hole3)[2] > 1e-3)
+        out.append(
+            {
+                "index": k,
+                "name": pocket.name,
+                "kind": pocket.kind.value,
+                "table_m": [round(float(pocket.aim[0]), 6), round(float(pocket.aim[1]), 6), 0.0],
+                "px": np.round(p, 3).tolist() if ok else None,
+                "in_frame": in_frame,
+                "visible": visible,
+                "hole_table_m": [round(float(hole[0]), 6), round(float(hole[1]), 6), 0.0],
+                "hole_radius_m": round(float(hole[2]), 6),
+                "hole_px": np.round(hp, 3).tolist() if hole_ok else None,
+            }
+        )
+    return out
 
 
 def yolo_lines(labels: dict) -> list[str]:

@@ -86,6 +86,13 @@ LINER_COLOURS = (
     (0.10, 0.10, 0.10),
 )
 
+PUB_LINER_COLOURS = (
+    (0.03, 0.03, 0.03),  # black plastic pocket rims
+    (0.62, 0.62, 0.64),  # chrome
+    (0.75, 0.6, 0.3),  # brass
+)
+"""Rims of rounded (pub) pockets."""
+
 DIAMOND_COLOURS = (
     (0.95, 0.95, 0.92),  # white plastic
     (0.92, 0.89, 0.80),  # mother of pearl

@@ -1,4 +1,5 @@
-"""Props around the table as capsule figures: hanging lamp shades, bar stools, a triangle rack and glasses.
+"""Props around the table as capsule figures: hanging lamp shades, bar stools, a triangle rack, and glasses,
+bottles and phones on the rails.
 
 They add the clutter real photos have (and ball-like distractors such as glasses seen from above); they
 are z-buffered like people (see :mod:`pix2pockets.synth.people`).
@@ -88,3 +89,31 @@ def glass(rng: np.random.Generator, xyz: np.ndarray) -> list[Capsule]:
             )
         )
     return caps
+
+
+def bottle(rng: np.random.Generator, xyz: np.ndarray) -> list[Capsule]:
+    """A beer or soft-drink bottle standing at ``xyz``: body, shoulder and neck."""
+    col = np.array([0.2, 0.35, 0.1]) if rng.random() < 0.4 else np.array([0.35, 0.18, 0.05]) * rng.uniform(0.6, 1.3)
+    r = rng.uniform(0.028, 0.034)
+    h = rng.uniform(0.13, 0.17)
+    neck = xyz + np.array([0, 0, h + 0.045])
+    return [
+        (xyz + np.array([0, 0, r]), xyz + np.array([0, 0, h]), r, r, col),
+        (xyz + np.array([0, 0, h]), neck, r * 0.9, 0.012, col),
+        (neck, neck + np.array([0, 0, 0.035]), 0.012, 0.012, col),
+    ]
+
+
+def phone(rng: np.random.Generator, xyz: np.ndarray) -> list[Capsule]:
+    """A phone lying flat at ``xyz`` (a slab of thin capsules side by side), dark glass or a coloured case."""
+    a = rng.uniform(0, 2 * math.pi)
+    along = np.array([math.cos(a), math.sin(a), 0.0]) * rng.uniform(0.07, 0.08)
+    across = np.array([-math.sin(a), math.cos(a), 0.0])
+    col = np.array([0.03, 0.03, 0.04]) if rng.random() < 0.6 else rng.uniform(0.05, 0.8, 3)
+    r = 0.0045
+    centre = xyz + np.array([0, 0, r])
+    return [(centre + across * o - along, centre + across * o + along, r, r, col) for o in np.linspace(-0.03, 0.03, 5)]
+
+
+RAIL_CLUTTER = {"glass": glass, "bottle": bottle, "phone": phone}
+"""Things people put down on the rails, by name."""

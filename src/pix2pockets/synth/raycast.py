@@ -24,13 +24,21 @@ from pix2pockets.synth.shading import (
     ball_albedo,
     ball_shadow,
     body_solid,
+    box_hit,
     cap_step,
     clamp,
+    coin_box_dark,
     hole_depth,
     hole_of,
     in_cushion,
+    in_pocket_cut,
+    in_sight,
+    on_plate,
     sample_tex2,
 )
+
+PLATE_DROP = 0.05
+"""How far metal pocket plates reach down the outer rail face from the cap [m]."""
 
 
 def _pixel_py(
@@ -146,31 +154,28 @@ def _pixel_py(
                     best = t
                     hit = codes.ID_CAP
                     nx, ny, nz = 0.0, 0.0, 1.0
-                    for j in range(diamonds.shape[0]):
-                        ddx = x - diamonds[j, 0]
-                        ddy = y - diamonds[j, 1]
-                        if shade[codes.S_DIA_SHAPE] > 0.5 and shade[codes.S_DIA_SHAPE] < 1.5:
-                            # rhombus, long axis along the rail
-                            along = abs(ddx) if j < 6 or 9 <= j < 15 else abs(ddy)
-                            across = abs(ddy) if j < 6 or 9 <= j < 15 else abs(ddx)
-                            inside = along / (1.6 * dr) + across / (0.8 * dr) < 1.0
-                        else:
-                            inside = ddx * ddx + ddy * ddy < dr * dr
-                        if inside:
-                            hit = codes.ID_DIAMOND0 + j
-                            aux = j
-                            if shade[codes.S_DIA_SHAPE] > 1.5:  # domed pearl
-                                q = math.sqrt(ddx * ddx + ddy * ddy) / dr
-                                nx = ddx / dr * 0.7
-                                ny = ddy / dr * 0.7
-                                nz = math.sqrt(max(0.05, 1.0 - q * q * 0.49))
-                            break
+                    if on_plate(x, y, holes, geo):
+                        hit = codes.ID_PLATE
+                    else:
+                        shape = int(shade[codes.S_DIA_SHAPE] + 0.5)
+                        for j in range(diamonds.shape[0]):
+                            ddx = x - diamonds[j, 0]
+                            ddy = y - diamonds[j, 1]
+                            if in_sight(ddx, ddy, dr, shape, j < 6 or 9 <= j < 15):
+                                hit = codes.ID_DIAMOND0 + j
+                                aux = j
+                                if shape == codes.SIGHT_PEARL:  # domed
+                                    q = math.sqrt(ddx * ddx + ddy * ddy) / dr
+                                    nx = ddx / dr * 0.7
+                                    ny = ddy / dr * 0.7
+                                    nz = math.sqrt(max(0.05, 1.0 - q * q * 0.49))
+                                break
         # cushion top (z = h)
         t = (h - oz) / dz
         if 0.0 < t < best:
             x = ox + t * dx
             y = oy + t * dy
-            if in_cushion(x, y, geo):
+            if in_cushion(x, y, geo, holes):
                 best = t
                 if hole_of(x, y, holes, 0.0) >= 0:
                     hit = codes.ID_HOLE
@@ -197,6 +202,9 @@ def _pixel_py(
                 if k >= 0:
                     hit = codes.ID_HOLE
                     aux = k
+                elif (x < 0.0 or x > L or y < 0.0 or y > Wd) and in_pocket_cut(x, y, holes, liner):
+                    hit = codes.ID_LINER  # the rim of a rounded pocket, around its drop hole
+                    nx, ny, nz = 0.0, 0.0, 1.0
                 elif -cw <= x <= L + cw and -cw <= y <= Wd + cw:
                     hit = codes.ID_CLOTH
                     nx, ny, nz = 0.0, 0.0, 1.0
@@ -261,6 +269,8 @@ def _pixel_py(
                         ):
                             best = t
                             hit = codes.ID_APRON if layer == 0 else codes.ID_BODY
+                            if layer == 0 and z > hr - PLATE_DROP and on_plate(xp2, y, holes, geo):
+                                hit = codes.ID_PLATE
                             nx, ny, nz = (-1.0 if side == 0 else 1.0), 0.0, 0.0
         # room walls
         xw = rx0 if dx < 0.0 else rx1
@@ -310,6 +320,8 @@ def _pixel_py(
                         ):
                             best = t
                             hit = codes.ID_APRON if layer == 0 else codes.ID_BODY
+                            if layer == 0 and z > hr - PLATE_DROP and on_plate(x, yp2, holes, geo):
+                                hit = codes.ID_PLATE
                             nx, ny, nz = 0.0, (-1.0 if side == 0 else 1.0), 0.0
         yw = ry0 if dy < 0.0 else ry1
         t = (yw - oy) / dy
@@ -317,6 +329,29 @@ def _pixel_py(
             best = t
             hit = codes.ID_WALL
             nx, ny, nz = 0.0, (1.0 if dy < 0.0 else -1.0), 0.0
+
+    # ---------------- coin box / ball return on the foot end of a coin-op table
+    box_u = 0.0
+    box_v = 0.0
+    if geo[codes.G_BOXW] > 0.0:
+        bx0 = L + rw - bi - 0.01
+        bx1 = L + rw + geo[codes.G_BOXD]
+        by0 = 0.5 * Wd - geo[codes.G_BOXW]
+        by1 = 0.5 * Wd + geo[codes.G_BOXW]
+        t, face = box_hit(ox, oy, oz, dx, dy, dz, bx0, bx1, by0, by1, geo[codes.G_BOXZ0], geo[codes.G_BOXZ1])
+        if 0.0 < t < best:
+            best = t
+            hit = codes.ID_BOX
+            nx, ny, nz = 0.0, 0.0, 0.0
+            if face == 0:
+                nx = 1.0 if dx < 0.0 else -1.0
+                # position on the front face: across (-1..1) and up (0..1)
+                box_u = (oy + t * dy - 0.5 * Wd) / geo[codes.G_BOXW]
+                box_v = (oz + t * dz - geo[codes.G_BOXZ0]) / (geo[codes.G_BOXZ1] - geo[codes.G_BOXZ0])
+            elif face == 1:
+                ny = 1.0 if dy < 0.0 else -1.0
+            else:
+                nz = 1.0 if dz < 0.0 else -1.0
 
     if hit == codes.ID_NONE:
         return 0.0, 0.0, 0.0, hit, best
@@ -398,6 +433,23 @@ def _pixel_py(
         ab = mats[codes.M_DIAMOND, 2]
         ks = 0.5
         shin = 60.0
+    elif hit == codes.ID_PLATE:
+        ar = mats[codes.M_PLATE, 0]
+        ag = mats[codes.M_PLATE, 1]
+        ab = mats[codes.M_PLATE, 2]
+        ks = 0.9
+        shin = shade[codes.S_METAL_SHIN]
+    elif hit == codes.ID_BOX:
+        ar = mats[codes.M_PLATE, 0]
+        ag = mats[codes.M_PLATE, 1]
+        ab = mats[codes.M_PLATE, 2]
+        ks = 0.6
+        shin = shade[codes.S_METAL_SHIN]
+        if (nx > 0.5 or nx < -0.5) and coin_box_dark(box_u, box_v):
+            ar = 0.02
+            ag = 0.02
+            ab = 0.02
+            ks = 0.0
     elif hit == codes.ID_LINER:
         ar = mats[codes.M_LINER, 0]
         ag = mats[codes.M_LINER, 1]

@@ -16,14 +16,17 @@ from pix2pockets.synth import effects as fx
 from pix2pockets.synth import people, props
 from pix2pockets.synth import raycast as rc
 from pix2pockets.synth import scene_codes as sc
-from pix2pockets.synth.cameras import VIEW_KINDS, sample_camera
+from pix2pockets.synth.cameras import PHONE_KINDS, VIEW_KINDS, draw_camera_kind, sample_camera
 from pix2pockets.synth.labels import build_labels, camera_dict, sphere_outline_px
 from pix2pockets.synth.layouts import sample_layout
 from pix2pockets.synth.scene import Scene, sample_scene
 from pix2pockets.synth.textures import digit_bitmaps
 
 DEFAULT_SIZE = (960, 540)
-TABLE_SIZES = {"9ft": 0.55, "8ft": 0.25, "7ft": 0.20}
+TABLE_SIZES = {"9ft": 0.45, "8ft": 0.25, "7ft": 0.25, "6ft": 0.05}
+"""Table presets (``geometry.table.TABLE_PRESETS``) and their shares."""
+OWNED_BUILDS = ("pub", "home")
+"""Builds of tables people own (``builds.BUILD_WEIGHTS``), photographed by phones more often."""
 
 Seed = int | Sequence[int]
 
@@ -44,6 +47,9 @@ class Render:
     occluded: np.ndarray
     labels: dict
 
+
+RAIL_CLUTTER = {"pub": 0.35, "home": 0.3}
+"""Share of scenes, by room, with 1-3 glasses, bottles or phones standing or lying on the rails."""
 
 STRETCH_PROBABILITY = 0.2
 """Share of single views rendered with non-square pixels (photos resized to another aspect ratio, as
@@ -148,7 +154,7 @@ def _trace_into(
         scene.shade,
         scene.mats,
         scene.holes,
-        scene.spec.diamonds.astype(np.float64) if diamonds else np.zeros((0, 2)),
+        scene.sights.astype(np.float64) if diamonds else np.zeros((0, 2)),
         centres.reshape(-1, 3).astype(np.float64),
         scene.rotations.reshape(-1, 3, 3).astype(np.float64),
         cols,
@@ -173,7 +179,7 @@ def _trace_into(
 def _exposure(scene: Scene, rgb: np.ndarray, ids: np.ndarray) -> float:
     """Auto-exposure: put the median lit cloth (or the median image) near mid-grey brightness."""
     table = (ids == sc.ID_CLOTH) | (ids == sc.ID_CUSHION)
-    lum = rgb.mean(axis=2)
+    lum = fx.channel_mean(rgb)
     ref = float(np.median(lum[table])) if table.sum() > 200 else float(np.median(lum))
     cloth_albedo = float(scene.mats[sc.M_CLOTH].mean())
     target = np.clip(cloth_albedo, 0.08, 0.5) * 1.1 if table.sum() > 200 else 0.35
@@ -223,15 +229,17 @@ def _add_occluders(
         xy = rng.uniform([0.2, 0.2], spec.size - 0.2)
         people.draw_figure(img, mask, depth, cam, props.triangle_rack(rng, xy, 0.02, rng.uniform(0.3, 0.36)))
         used.append("rack")
-    if scene.style.get("room") == "pub" and rng.random() < 0.25:
-        for _ in range(int(rng.integers(1, 3))):
+    if rng.random() < RAIL_CLUTTER.get(scene.style.get("room", ""), 0.0):
+        for _ in range(int(rng.integers(1, 4))):
             k = int(rng.integers(4))
-            s = rng.uniform(0.05, 0.95)
-            off = scene.geo[sc.G_CW] + (scene.rail_width - scene.geo[sc.G_CW]) * 0.5
+            s = rng.uniform(0.03, 0.97)
+            off = scene.geo[sc.G_CW] + (scene.rail_width - scene.geo[sc.G_CW]) * rng.uniform(0.35, 0.65)
             xy = [(s * spec.length, -off), (spec.length + off, s * spec.width), (s * spec.length, spec.width + off),
                   (-off, s * spec.width)][k]  # fmt: skip
-            people.draw_figure(img, mask, depth, cam, props.glass(rng, np.array([*xy, scene.geo[sc.G_HR]])), 0.5)
-        used.append("glasses")
+            name = str(rng.choice(list(props.RAIL_CLUTTER), p=[0.5, 0.3, 0.2]))
+            item = props.RAIL_CLUTTER[name](rng, np.array([*xy, scene.geo[sc.G_HR]]))
+            people.draw_figure(img, mask, depth, cam, item, 0.5)
+            used.append(name)
     if len(centres) and rng.random() < 0.4 * strength:
         cue_i = scene.layout.cue_index
         i = cue_i if cue_i is not None and rng.random() < 0.75 else int(rng.integers(len(centres)))
@@ -315,7 +323,7 @@ def diamond_signal(
     """
     raw_plain = trace_without_diamonds(scene, cam, raw, ids, depth)
     plain = _photograph(raw_plain, depth, scene, cam, kind, exposure, rng, strength)[0]
-    return np.abs(image.astype(np.int16) - plain.astype(np.int16)).max(axis=2)
+    return fx.channel_max(np.abs(image.astype(np.int16) - plain.astype(np.int16)))
 
 
 def render_scene_view(
@@ -324,9 +332,11 @@ def render_scene_view(
     """Render ``scene`` through ``cam`` with occluders and the camera pipeline drawn from ``rng``."""
     raw, ids, depth, sil = trace(scene, cam)
     exposure = _exposure(scene, raw, ids) * rng.uniform(0.75, 1.3)
-    rng_plain = copy.deepcopy(rng)
+    rng_plain = copy.deepcopy(rng) if scene.has_sights else None
     image, occluded, used, pipeline = _photograph(raw, depth, scene, cam, kind, exposure, rng, strength)
-    signal = diamond_signal(image, scene, cam, kind, raw, ids, depth, exposure, rng_plain, strength)
+    signal = None
+    if rng_plain is not None:  # plain rails: no sight to measure
+        signal = diamond_signal(image, scene, cam, kind, raw, ids, depth, exposure, rng_plain, strength)
     labels = build_labels(scene, cam, ids, occluded, sil, diamond_signal=signal)
     labels["image_size"] = list(cam.image_size)
     labels["camera"] = camera_dict(cam, kind)
@@ -362,18 +372,28 @@ def render(
     size: tuple[int, int] = DEFAULT_SIZE,
     camera_kind: str | Sequence[str] | None = None,
     layout_mode: str | None = None,
+    portrait: float = 0.0,
 ) -> Render:
     """Render the sample of ``seed`` (same seed -> identical pixels and labels).
 
     Args:
         seed: non-negative int or sequence of ints (e.g. ``(dataset_seed, index)``).
-        size: (width, height) [px].
+        size: (width, height) [px] of a landscape frame.
         camera_kind: force a camera kind (see ``cameras.CAMERA_KINDS``), or draw among several kinds (their
-            ``CAMERA_KINDS`` probabilities); drawn among all when ``None``.
+            ``CAMERA_KINDS`` probabilities, phone kinds weighted up for pub and home tables); drawn among all when
+            ``None``.
         layout_mode: force a layout mode (see ``layouts.LAYOUT_MODES``, e.g. ``"rack"``); random when ``None``.
+        portrait: share of phone views (``cameras.PHONE_KINDS``) held upright: rendered at (height, width). The
+            draw is made for every scene, so a scene that stays landscape renders the same at any share.
     """
+    if not 0.0 <= portrait <= 1.0:
+        raise ValueError(f"portrait must be a share in [0, 1], got {portrait!r}")
     scene, mode, r_cam, r_fx = _scene_and_streams(seed, layout_mode)
-    cam, kind = sample_camera(r_cam, scene.spec, size, camera_kind, scene.floor_z, scene.rail_width)
+    kind = draw_camera_kind(r_cam, camera_kind, owned=scene.style.get("build") in OWNED_BUILDS)
+    upright = r_cam.random() < portrait and kind in PHONE_KINDS
+    if upright:
+        size = (size[1], size[0])
+    cam, kind = sample_camera(r_cam, scene.spec, size, kind, scene.floor_z, scene.rail_width)
     if r_cam.random() < STRETCH_PROBABILITY:
         cam = stretch_pixels(cam, float(np.exp(r_cam.uniform(np.log(0.75), np.log(1.33)))))
     out = render_scene_view(scene, cam, kind, r_fx)
@@ -383,7 +403,7 @@ def render(
 
 
 def render_sample(
-    seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, camera_kind: str | None = None
+    seed: Seed, size: tuple[int, int] = DEFAULT_SIZE, camera_kind: str | None = None, portrait: float = 0.0
 ) -> tuple[np.ndarray, dict]:
     """One labelled synthetic photo: (RGB uint8 image (H, W, 3), label dict). Deterministic in ``seed``.
 
@@ -392,7 +412,7 @@ def render_sample(
         >>> image.shape
         (180, 320, 3)
     """
-    out = render(seed, size, camera_kind)
+    out = render(seed, size, camera_kind, portrait=portrait)
     return out.image, out.labels
 
 

@@ -14,16 +14,24 @@ import numpy as np
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.state.layout import TableLayout
 from pix2pockets.synth import scene_codes as sc
+from pix2pockets.synth.builds import (
+    CLOTH_WEIGHTS_BY_BUILD,
+    LIGHTING_BY_BUILD,
+    RAIL_WEIGHTS_BY_BUILD,
+    apply_build,
+    pocket_holes,
+    sample_build,
+)
 from pix2pockets.synth.palette import (
     ALT_BALL_COLOURS,
     BALL_COLOURS,
     CLOTH_COLOURS,
-    CLOTH_WEIGHTS,
     DARK_DIAMOND_COLOURS,
     DARK_DIAMONDS_ON_LIGHT_RAILS,
     DIAMOND_COLOURS,
     LIGHT_RAILS,
     LINER_COLOURS,
+    PUB_LINER_COLOURS,
     RAIL_MATERIALS,
     RAIL_WEIGHTS,
     STRIPE_WHITE,
@@ -33,8 +41,9 @@ from pix2pockets.synth.palette import (
 )
 from pix2pockets.synth.textures import TEXTURE_VARIANTS, cached_floor, cached_grain, cached_noise, cached_wall
 
-LIGHTING_KINDS: dict[str, float] = {"broadcast": 0.3, "pub_lamps": 0.35, "warm_pub": 0.15, "home": 0.2}
 ROOM_FOR_LIGHTING = {"broadcast": "arena", "pub_lamps": "pub", "warm_pub": "pub", "home": "home"}
+HALL_IN_HOME_ROOM = 0.15
+"""Share of lamp-lit hall tables that stand in a home room instead of a pub or hall."""
 
 
 @dataclass(frozen=True, eq=False)
@@ -46,10 +55,11 @@ class Scene:
         layout: balls and their centres in the table frame [m].
         rotations: per-ball rotation world -> ball frame (n, 3, 3) (orients numbers and stripe bands).
         geo, shade, mats: flat parameter arrays (see ``raycast.G_*``, ``S_*``, ``M_*``).
-        holes: pocket holes (6, 3): centre x, y [m] and radius [m].
+        holes: pocket holes (6, 4): centre x, y [m], radius [m] and the round cut of the cushion ends around it [m]
+            (0: jaw-cut pockets), see :func:`pix2pockets.synth.builds.pocket_holes`.
         lights: point lights (m, 8): x, y, z [m], intensity, r, g, b, radius [m].
         noise, grain: float tiles; floor_tex, wall_tex: uint8 RGB textures (shared, read-only caches).
-        style: names of the drawn choices (cloth, rails, lighting, room, ...) for the label file.
+        style: names of the drawn choices (build, sights, cloth, rails, lighting, room, ...) for the label file.
     """
 
     spec: TableSpec
@@ -71,6 +81,16 @@ class Scene:
         """Ball centres in 3-D [m], shape (n, 3): on the cloth, so z = ball radius."""
         pos = self.layout.positions
         return np.column_stack([pos, np.full(len(pos), self.spec.ball_radius)])
+
+    @property
+    def has_sights(self) -> bool:
+        """Whether the rail caps carry sights (diamonds); plain rails have none."""
+        return self.style.get("sights", "round") != "none"
+
+    @property
+    def sights(self) -> np.ndarray:
+        """Sight centres on the rail caps (18, 2) [m], or (0, 2) for plain rails."""
+        return self.spec.diamonds if self.has_sights else np.zeros((0, 2))
 
     @property
     def rail_width(self) -> float:
@@ -155,12 +175,13 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
     """Draw table build, materials, lighting and room for ``layout`` (its own spec unless ``spec``)."""
     spec = spec or layout.spec
     L, W = spec.length, spec.width
-    lighting = weighted_choice(rng, LIGHTING_KINDS)
+    build = sample_build(rng, spec)
+    lighting = weighted_choice(rng, LIGHTING_BY_BUILD[build.name])
     room = ROOM_FOR_LIGHTING[lighting]
-    if room == "pub" and rng.random() < 0.3:
+    if build.name == "home" or (build.name == "hall" and room == "pub" and rng.random() < HALL_IN_HOME_ROOM):
         room = "home"
-    cloth_name = weighted_choice(rng, CLOTH_WEIGHTS)
-    rail_name = weighted_choice(rng, RAIL_WEIGHTS)
+    cloth_name = weighted_choice(rng, CLOTH_WEIGHTS_BY_BUILD[build.name])
+    rail_name = weighted_choice(rng, RAIL_WEIGHTS_BY_BUILD[build.name])
 
     geo = np.zeros(sc.N_GEO)
     geo[sc.G_L], geo[sc.G_W] = L, W
@@ -192,17 +213,7 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
     if geo[sc.G_LEGS] > 0:  # legged tables sit under a shallower apron, legs just inside the rail
         geo[sc.G_BI] = rng.uniform(0.03, 0.12)
 
-    holes = np.zeros((6, 3))
-    for k, pocket in enumerate(spec.pockets):
-        if pocket.kind.value == "corner":
-            corner = np.round(pocket.jaws.mean(axis=0) / spec.size) * spec.size
-            out = np.sign(corner - spec.size / 2) / math.sqrt(2)
-            holes[k, :2] = corner + out * rng.uniform(0.035, 0.05)
-            holes[k, 2] = rng.uniform(0.058, 0.068)
-        else:
-            out = -1.0 if pocket.aim[1] < W / 2 else 1.0
-            holes[k, :2] = [L / 2, pocket.aim[1] + out * rng.uniform(0.045, 0.058)]
-            holes[k, 2] = rng.uniform(0.055, 0.064)
+    holes = pocket_holes(rng, spec, build.rounded)
 
     is_wood = rail_name in WOOD_RAILS
     shade = np.zeros(sc.N_SHADE)
@@ -218,7 +229,6 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
     shade[sc.S_BALL_SHIN] = rng.uniform(60, 500)
     shade[sc.S_FLOOR_SCALE] = rng.uniform(60, 200)
     shade[sc.S_BOUNCE] = rng.uniform(0.1, 0.4)
-    shade[sc.S_DIA_SHAPE] = float(rng.choice([0, 1, 2], p=[0.5, 0.3, 0.2]))
     shade[sc.S_CUE_DOTS] = float(rng.random() < 0.2)
     shade[sc.S_BAND] = rng.uniform(0.42, 0.6)
     shade[sc.S_NUMR] = math.cos(rng.uniform(0.33, 0.45))
@@ -238,7 +248,8 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
         else jitter(rng, RAIL_MATERIALS[weighted_choice(rng, RAIL_WEIGHTS)], 0.1)
     )
     mats[sc.M_BODY] = mats[sc.M_APRON] * rng.uniform(0.3, 0.8)
-    mats[sc.M_LINER] = jitter(rng, LINER_COLOURS[int(rng.integers(len(LINER_COLOURS)))], 0.1)
+    liners = PUB_LINER_COLOURS if build.rounded else LINER_COLOURS
+    mats[sc.M_LINER] = jitter(rng, liners[int(rng.integers(len(liners)))], 0.1)
     mats[sc.M_DIAMOND] = jitter(rng, _diamond_colour(rng, rail_name), 0.03)
     mats[sc.M_CEIL] = jitter(rng, (0.3, 0.3, 0.3) if room != "arena" else (0.02, 0.02, 0.03), 0.3)
     amb_col = {"warm_pub": (1.0, 0.85, 0.65), "home": (0.95, 0.97, 1.0)}.get(lighting, (1.0, 1.0, 1.0))
@@ -248,6 +259,8 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
     if room != "arena" and rng.random() < 0.3:  # a rug under the table
         geo[sc.G_RUGX] = L / 2 + rw + rng.uniform(0.2, 1.0)
         geo[sc.G_RUGY] = W / 2 + rw + rng.uniform(0.2, 1.0)
+
+    apply_build(rng, build, holes, geo, shade, mats)
 
     base_colours = dict(BALL_COLOURS)
     for n, alts in ALT_BALL_COLOURS.items():
@@ -263,7 +276,12 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
         "rail": rail_name,
         "lighting": lighting,
         "room": room,
-        "diamond_shape": ["round", "rhombus", "pearl"][int(shade[sc.S_DIA_SHAPE])],
+        "build": build.name,
+        "sights": build.sights,
+        "diamond_shape": build.sights,
+        "pockets": "rounded" if build.rounded else "jaw_cut",
+        "plates": build.plates,
+        "coin_box": build.coin_box,
         "ball_jitter": ball_jitter,
     }
     return Scene(

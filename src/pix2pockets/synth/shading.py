@@ -17,6 +17,8 @@ from pix2pockets.synth.scene_codes import (
     G_L,
     G_LEGS,
     G_LEGW,
+    G_PLATE,
+    G_PLATE_SQ,
     G_SKIRT,
     G_SS,
     G_W,
@@ -24,7 +26,15 @@ from pix2pockets.synth.scene_codes import (
     S_BAND,
     S_CUE_DOTS,
     S_NUMR,
+    SIGHT_OVAL,
+    SIGHT_RHOMBUS,
+    SIGHT_SQUARE,
 )
+
+SQUARE_HALF = 0.85
+"""Half-side of a square sight, in sight sizes (``G_DR``): about the area of a round sight."""
+OVAL_AXES = (1.5, 0.65)
+"""Half-axes of an oval sight along and across its rail, in sight sizes (``G_DR``)."""
 
 
 @njit(cache=True, inline="always")
@@ -32,9 +42,9 @@ def clamp(x, lo, hi):
     return lo if x < lo else (hi if x > hi else x)
 
 
-@njit(cache=True)
-def in_cushion(x, y, geo):
-    """Whether table point (x, y) lies under a cushion top (between nose line and cushion back)."""
+@njit(cache=True, inline="always")
+def _cushion_box(x, y, geo):
+    """Whether (x, y) lies under a cushion top with jaw-cut ends (no rounding)."""
     L = geo[G_L]
     W = geo[G_W]
     cw = geo[G_CW]
@@ -57,6 +67,104 @@ def in_cushion(x, y, geo):
         o = -x if x < 0.0 else x - L
         return dc - kc * o <= y <= W - dc + kc * o
     return False
+
+
+@njit(cache=True)
+def in_pocket_cut(x, y, holes, extra):
+    """Whether (x, y) lies in the round cut of a rounded pocket: within ``holes[k, 3]`` [m] of its hole centre, or
+    within the hole radius + ``extra`` [m] (the opening of the rim on the rail cap)."""
+    for k in range(holes.shape[0]):
+        rc = holes[k, 3]
+        if rc > 0.0:
+            rc = max(rc, holes[k, 2] + extra)
+            dx = x - holes[k, 0]
+            dy = y - holes[k, 1]
+            if dx * dx + dy * dy < rc * rc:
+                return True
+    return False
+
+
+@njit(cache=True)
+def in_cushion(x, y, geo, holes):
+    """Whether table point (x, y) lies under a cushion top (between nose line and cushion back); rounded pockets
+    (``holes[k, 3] > 0``) cut the cushion ends along a circle of that radius [m] around the hole."""
+    return _cushion_box(x, y, geo) and not in_pocket_cut(x, y, holes, 0.0)
+
+
+@njit(cache=True)
+def on_plate(x, y, holes, geo):
+    """Whether rail-cap point (x, y) lies on a metal pocket plate (within ``G_PLATE`` of a hole centre)."""
+    reach = geo[G_PLATE]
+    if reach <= 0.0:
+        return False
+    square = geo[G_PLATE_SQ] > 0.5
+    for k in range(holes.shape[0]):
+        dx = abs(x - holes[k, 0])
+        dy = abs(y - holes[k, 1])
+        if square:
+            if dx < reach and dy < reach:
+                return True
+        elif dx * dx + dy * dy < reach * reach:
+            return True
+    return False
+
+
+@njit(cache=True)
+def in_sight(ddx, ddy, dr, shape, long_rail):
+    """Whether offset (ddx, ddy) [m] from a sight's centre lies inside it (size ``dr`` [m], ``SIGHT_*`` shape;
+    rhombus and oval sights lie along the rail)."""
+    along = abs(ddx) if long_rail else abs(ddy)
+    across = abs(ddy) if long_rail else abs(ddx)
+    if shape == SIGHT_RHOMBUS:
+        return along / (1.6 * dr) + across / (0.8 * dr) < 1.0
+    if shape == SIGHT_SQUARE:
+        return along < SQUARE_HALF * dr and across < SQUARE_HALF * dr
+    if shape == SIGHT_OVAL:
+        a = along / (OVAL_AXES[0] * dr)
+        b = across / (OVAL_AXES[1] * dr)
+        return a * a + b * b < 1.0
+    return ddx * ddx + ddy * ddy < dr * dr
+
+
+@njit(cache=True)
+def box_hit(ox, oy, oz, dx, dy, dz, x0, x1, y0, y1, z0, z1):
+    """Entry distance and face of a ray into an axis-aligned box [m]: (t, face) with face 0/1/2 for an x/y/z
+    face, or (-1, -1) when the ray misses it or starts inside."""
+    tmin = -INF
+    tmax = INF
+    face = -1
+    for a in range(3):
+        o = ox if a == 0 else (oy if a == 1 else oz)
+        d = dx if a == 0 else (dy if a == 1 else dz)
+        lo = x0 if a == 0 else (y0 if a == 1 else z0)
+        hi = x1 if a == 0 else (y1 if a == 1 else z1)
+        if abs(d) < 1e-12:
+            if o < lo or o > hi:
+                return -1.0, -1
+            continue
+        t0 = (lo - o) / d
+        t1 = (hi - o) / d
+        if t0 > t1:
+            t0, t1 = t1, t0
+        if t0 > tmin:
+            tmin = t0
+            face = a
+        if t1 < tmax:
+            tmax = t1
+        if tmin > tmax:
+            return -1.0, -1
+    if tmin <= 0.0:
+        return -1.0, -1
+    return tmin, face
+
+
+@njit(cache=True)
+def coin_box_dark(u, v):
+    """Whether a point of a coin box's front, ``u`` across (-1..1) and ``v`` up (0..1), is an opening: the
+    ball-return opening below, the coin slides above."""
+    opening = 0.12 < v < 0.45 and abs(u) < 0.75
+    slots = 0.6 < v < 0.88 and abs(u) < 0.8 and (u * 3.0 + 3.0) % 1.0 < 0.22
+    return opening or slots
 
 
 @njit(cache=True)
