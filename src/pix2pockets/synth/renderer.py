@@ -13,8 +13,7 @@ import numpy as np
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.table import TABLE_PRESETS, TableSpec
 from pix2pockets.synth import effects as fx
-from pix2pockets.synth import people, props
-from pix2pockets.synth import raycast as rc
+from pix2pockets.synth import people, props, render_pass
 from pix2pockets.synth import scene_codes as sc
 from pix2pockets.synth.cameras import PHONE_KINDS, VIEW_KINDS, draw_camera_kind, sample_camera
 from pix2pockets.synth.labels import build_labels, camera_dict, sphere_outline_px
@@ -37,7 +36,7 @@ class Render:
 
     Attributes:
         image: RGB uint8 (H, W, 3).
-        ids: object id per pixel from the ray caster (H, W) int16 (``raycast.ID_*``), before 2-D occluders.
+        ids: object id per pixel from the ray caster (H, W) int16 (``scene_codes.ID_*``), before 2-D occluders.
         occluded: pixels covered by 2-D occluders and overlays (H, W) bool.
         labels: the label dict written as JSON (see ``docs/synth.md``).
     """
@@ -144,7 +143,7 @@ def _trace_into(
         bboxes[i] = [max(lo[0], -1), max(lo[1], -1), min(hi[0], w + 1), min(hi[1], h + 1)]
     cols, kinds, nums = scene.ball_arrays()
     sil = np.zeros(n, np.int64)
-    rc.render_scene(
+    render_pass.render_scene(
         np.linalg.inv(cam.K),
         cam.R.T.copy(),
         cam.position,

@@ -1,7 +1,7 @@
 """A renderable scene: table build, materials, lights, room and balls (everything but the camera).
 
 :func:`sample_scene` draws all appearance choices from one ``np.random.Generator``; the result packs them
-into the flat arrays :func:`pix2pockets.synth.raycast.render_scene` takes.
+into the flat arrays :func:`pix2pockets.synth.render_pass.render_scene` takes.
 """
 
 from __future__ import annotations
@@ -54,7 +54,7 @@ class Scene:
         spec: the table (playing-surface size, pockets, diamonds).
         layout: balls and their centres in the table frame [m].
         rotations: per-ball rotation world -> ball frame (n, 3, 3) (orients numbers and stripe bands).
-        geo, shade, mats: flat parameter arrays (see ``raycast.G_*``, ``S_*``, ``M_*``).
+        geo, shade, mats: flat parameter arrays (see ``scene_codes.G_*``, ``S_*``, ``M_*``).
         holes: pocket holes (6, 4): centre x, y [m], radius [m] and the round cut of the cushion ends around it [m]
             (0: jaw-cut pockets), see :func:`pix2pockets.synth.builds.pocket_holes`.
         lights: point lights (m, 8): x, y, z [m], intensity, r, g, b, radius [m].
