@@ -1,5 +1,8 @@
 """Web round trip: POST /api/suggest on the bundled example photo, in-process (FastAPI TestClient).
 
+The app runs with ``workers=0`` (its job board and one worker thread in this process), so the numbers are the
+pipeline plus the web layer, without worker processes; ``benchmarks/web_load.py`` measures the server under load.
+
 Reports the request's wall time, the pipeline's own time (``timings_s.total``, as in ``benchmarks/pipeline.py``)
 and the rest (multipart parsing, decoding, the result picture, PNG and base64 encoding, JSON): the cost of
 the web layer. Uses the bundled detector and the default planner when this build has them, otherwise the

@@ -1,6 +1,7 @@
 import base64
 import io
 import json
+import time
 
 import anyio
 import numpy as np
@@ -12,9 +13,13 @@ pytest.importorskip("python_multipart")
 from fastapi.testclient import TestClient
 
 from pix2pockets.pipeline import photo
+from pix2pockets.state import Group
 from pix2pockets.testing import LabelsDetector, NearestPocketPlanner
 from pix2pockets.vision.image_io import decode_image_rgb
+from pix2pockets.web import app as web_app
 from pix2pockets.web.app import create_app
+from pix2pockets.web.jobs import STAGES
+from tests.web.standins import GatedDetector
 
 
 def client_for(labels, drop=(), **kwargs) -> TestClient:
@@ -35,18 +40,26 @@ def test_page_is_self_contained(rendered):
     r = client_for(rendered[1]).get("/")
     assert r.status_code == 200 and r.headers["content-type"].startswith("text/html")
     html = r.text
-    for needle in ('type="file"', 'value="solids"', 'value="stripes"', 'value="auto"', "api/suggest", "api/example"):
+    for needle in ('type="file"', 'value="solids"', 'value="stripes"', 'value="auto"', "api/jobs", "api/example"):
         assert needle in html
     # nothing is fetched from elsewhere: no external scripts, styles, fonts or images
     assert "http://" not in html and "https://" not in html and "<script src" not in html and "<link" not in html
     assert "{{" not in html
+    assert 'capture="environment"' in html and "@media (max-width: 700px)" in html  # phones: camera, stacked panels
     assert "default-src 'none'" in r.headers["content-security-policy"]
 
 
 def test_health(rendered):
-    doc = client_for(rendered[1], max_upload_bytes=12345).get("/api/health").json()
+    doc = client_for(rendered[1], max_upload_bytes=12345, queue=3).get("/api/health").json()
     assert doc["status"] == "ok" and doc["max_upload_bytes"] == 12345
-    assert doc["groups"] == ["auto", "solids", "stripes"]
+    assert doc["groups"] == ["auto", "solids", "stripes"] == [web_app.GROUPS[0], *(g.value for g in Group)]
+    assert doc["workers"] == 1 and doc["queue"] == 3 and doc["running"] == doc["queued"] == 0
+
+
+def test_favicon(rendered):
+    r = client_for(rendered[1]).get("/favicon.ico")
+    assert r.status_code == 200 and r.headers["content-type"] == "image/x-icon"
+    assert Image.open(io.BytesIO(r.content)).size == (32, 32)
 
 
 @pytest.mark.parametrize("group", ["auto", "stripes", "solids"])
@@ -100,7 +113,7 @@ def write_bomb() -> bytes:
         (lambda: b"this is not an image", "not an image file: table.png"),
         (lambda: png_bytes()[:100], "truncated or corrupt"),
         (lambda: png_bytes((32, 32, 3)), "too small"),
-        (write_bomb, "too large"),
+        (write_bomb, "too large (144000000 pixels; the limit is 64000000 pixels)"),
     ],
 )
 def test_bad_images_are_400(rendered, make, match):
@@ -242,8 +255,6 @@ def test_long_messages_are_one_short_line(rendered):
 
 
 def test_unexpected_errors_outside_the_pipeline_answer_json(rendered, monkeypatch):
-    from pix2pockets.web import app as web_app
-
     def broken(upload):
         raise KeyError("oops")
 
@@ -262,3 +273,107 @@ def test_bundled_model_and_planner_on_the_example(rendered):
     assert "error" not in doc, doc
     assert doc["suggestion"]["group"] in ("solids", "stripes") and len(doc["balls"]) >= 8
     assert doc["picture_png_base64"]
+
+
+def follow(client, job: dict, timeout: float = 60.0) -> dict:
+    """Poll ``GET /api/jobs/{id}?since=`` as the page does, until the job is over."""
+    end = time.monotonic() + timeout
+    while job["state"] in ("queued", "running"):
+        assert time.monotonic() < end
+        r = client.get(f"/api/jobs/{job['job']}", params={"since": job["version"]})
+        assert r.status_code == 200, r.text
+        job = r.json()
+    return job
+
+
+def test_jobs_api_gives_the_same_answer_as_suggest(rendered):
+    data, labels = rendered
+    c = client_for(labels)
+    r = c.post("/api/jobs", files={"file": ("table.jpg", data, "image/jpeg")}, data={"group": "solids"})
+    assert r.status_code == 202 and r.json()["state"] in ("queued", "running", "done")
+    assert r.json()["url"] == f"api/jobs/{r.json()['job']}"
+    job = follow(c, r.json())
+    assert job["state"] == "done" and job["status"] == 200 and set(job["stages"]) == set(STAGES)
+    direct = post(c, data, "solids", name="table.jpg").json()
+    for doc in (job["result"], direct):
+        doc.pop("timings_s")
+    assert job["result"] == direct
+    assert c.get(f"/api/jobs/{job['job']}").json()["state"] == "done"  # kept for a while
+
+
+def test_jobs_api_failures_carry_status_and_message(rendered):
+    data, labels = rendered
+    c = client_for(labels, ("cue",))
+    job = follow(c, c.post("/api/jobs", files={"file": ("t.jpg", data)}).json())
+    assert job["state"] == "failed" and job["status"] == 422 and "no cue ball" in job["error"]
+    r = c.post("/api/jobs", files={"file": ("notes.txt", b"hello")})
+    assert r.status_code == 400 and r.json() == {"error": "not an image file: notes.txt"}  # refused at once
+    r = c.get("/api/jobs/no-such-job")
+    assert r.status_code == 404 and "no such job" in r.json()["error"]
+
+
+def test_busy_server_refuses_at_once_with_retry_after_and_recovers(rendered, tmp_path):
+    data, labels = rendered
+    gate = tmp_path / "go"
+    c = TestClient(create_app(GatedDetector(labels, gate), NearestPocketPlanner(), queue=1))
+    first = c.post("/api/jobs", files={"file": ("a.jpg", data)}).json()
+    second = c.post("/api/jobs", files={"file": ("b.jpg", data)}).json()
+    assert second["state"] == "queued"
+    t = time.perf_counter()
+    r = post(c, data)
+    assert time.perf_counter() - t < 1.0
+    assert r.status_code == 503 and "busy" in r.json()["error"] and int(r.headers["retry-after"]) >= 1
+    assert c.get(f"/api/jobs/{second['job']}").json()["ahead"] == 0
+    assert c.get("/api/health").json()["refused"] == 1
+    gate.touch()
+    assert follow(c, first)["status"] == follow(c, second)["status"] == 200
+    assert post(c, data).status_code == 200  # room again
+
+
+def test_picture_parts_tile_the_picture(rendered):
+    data, labels = rendered
+    doc = post(client_for(labels), data).json()
+    picture = np.asarray(Image.open(io.BytesIO(base64.b64decode(doc["picture_png_base64"]))).convert("RGB"))
+    parts = doc["picture_parts"]
+    (px, py, pw, ph), (dx, dy, dw, dh), (cx, cy, cw, chh) = parts["photo"], parts["diagram"], parts["caption"]
+    assert (px, py, dy, cx) == (0, 0, 0, 0) and dx == pw and dh == ph and cy == ph
+    assert abs(pw + dw - picture.shape[1]) <= 1 and abs(ph + chh - picture.shape[0]) <= 1 and cw == picture.shape[1]
+    width, height = labels["image_size"]
+    assert abs(pw / ph - width / height) < 0.01  # the photo keeps its shape
+    photo_mean = decode_image_rgb(data).mean()
+    assert abs(picture[:ph, :pw].mean() - photo_mean) < 10  # the photo (lines drawn on it), not the diagram
+
+
+def sixteen_bit_grey(data: bytes) -> tuple[bytes, np.ndarray]:
+    grey = np.asarray(Image.open(io.BytesIO(data)).convert("L")).astype(np.uint16) * 257
+    buf = io.BytesIO()
+    Image.fromarray(grey).save(buf, format="PNG")
+    return buf.getvalue(), (grey // 257).astype(np.uint8)
+
+
+def test_16_bit_greyscale_png_reads_as_the_photo(rendered):
+    data, labels = rendered
+    png16, grey8 = sixteen_bit_grey(data)
+    assert Image.open(io.BytesIO(png16)).mode.startswith("I")
+    rgb = decode_image_rgb(png16, "grey16.png")
+    assert rgb.dtype == np.uint8 and rgb.shape == (*grey8.shape, 3)
+    assert np.abs(rgb[:, :, 0].astype(int) - grey8).max() <= 1 and (rgb[:, :, 0] == rgb[:, :, 2]).all()
+    r = post(client_for(labels), png16, name="grey16.png")
+    assert r.status_code == 200, r.text
+
+
+@pytest.mark.parametrize(
+    ("mode", "values", "expect"),
+    [
+        ("I", np.array([[0, 65535]], np.int32), [0, 255]),
+        ("I", np.array([[3, 200]], np.int32), [3, 200]),
+        ("I", np.array([[-100, 100]], np.int32), [0, 255]),
+        ("F", np.array([[0.0, 1.0]], np.float32), [0, 255]),
+        ("F", np.array([[10.0, 20.0]], np.float32), [0, 255]),
+    ],
+)
+def test_deep_images_are_scaled_not_clipped(mode, values, expect):
+    buf = io.BytesIO()
+    Image.fromarray(np.repeat(np.repeat(values, 40, axis=0), 40, axis=1), mode=mode).save(buf, format="TIFF")
+    rgb = decode_image_rgb(buf.getvalue(), "deep.tif")
+    assert [int(rgb[0, 0, 0]), int(rgb[0, -1, 0])] == expect

@@ -12,6 +12,7 @@ import importlib
 import pkgutil
 import sys
 from collections.abc import Sequence
+from typing import NoReturn
 
 from pix2pockets import __version__
 
@@ -28,21 +29,55 @@ def discover_commands() -> tuple[str, ...]:
 COMMANDS: tuple[str, ...] = discover_commands()
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(
-        prog="pix2pockets",
-        description="Shot suggestions for 8-ball pool from one photo of the table.",
-    )
-    parser.add_argument("--version", action="version", version=f"pix2pockets {__version__}")
-    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+class OneLineParser(argparse.ArgumentParser):
+    """An argument parser whose usage errors are one line (``pix2pockets suggest: error: ...``), exit code 2.
+
+    Sub-command parsers are made by the same class, so every command answers a bad option this way.
+    """
+
+    def error(self, message: str, prog: str | None = None) -> NoReturn:
+        prog = prog or self.prog
+        line = " ".join(message.split())
+        self.exit(2, f"{prog}: error: {line} (see '{prog} --help')\n")
+
+    def parse_args(self, args=None, namespace=None):  # type: ignore[override]
+        """As argparse's, but options no parser knows are named with the command they were given to."""
+        parsed, extras = self.parse_known_args(args, namespace)
+        if extras:
+            command = getattr(parsed, "command", None)
+            self.error(f"unrecognized arguments: {' '.join(extras)}", f"{self.prog} {command}" if command else None)
+        return parsed
+
+
+def build_parser(command: str | None = None) -> argparse.ArgumentParser:
+    """The ``pix2pockets`` parser with every sub-command, or only ``command`` when its own module registers it
+    (``serve`` -> ``serve_cmd``): a command then imports only what it uses (the web server stays light)."""
+    if command is not None:
+        own = f"pix2pockets.cli.{command.replace('-', '_')}_cmd"
+        if own in COMMANDS:
+            parser, sub = _empty_parser()
+            importlib.import_module(own).register(sub)
+            if command in sub.choices:
+                return parser
+    parser, sub = _empty_parser()
     for name in COMMANDS:
         importlib.import_module(name).register(sub)
     return parser
 
 
+def _empty_parser() -> tuple[argparse.ArgumentParser, argparse._SubParsersAction]:
+    parser = OneLineParser(
+        prog="pix2pockets",
+        description="Shot suggestions for 8-ball pool from one photo of the table.",
+    )
+    parser.add_argument("--version", action="version", version=f"pix2pockets {__version__}")
+    return parser, parser.add_subparsers(dest="command", metavar="COMMAND")
+
+
 def main(argv: Sequence[str] | None = None) -> int:
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    words = list(sys.argv[1:] if argv is None else argv)
+    parser = build_parser(next((w for w in words if not w.startswith("-")), None))
+    args = parser.parse_args(words)
     if getattr(args, "func", None) is None:
         parser.print_help()
         return 0

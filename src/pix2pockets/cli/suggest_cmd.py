@@ -7,6 +7,7 @@ import json
 from pathlib import Path
 
 from pix2pockets.cli.detector_options import add_model_options, chosen_detector
+from pix2pockets.cli.warmup_cmd import AfterCompile, compile_in_background
 from pix2pockets.data.examples import example_photo_path
 from pix2pockets.files import check_output, write_atomic
 
@@ -67,19 +68,23 @@ def run(args: argparse.Namespace) -> int:
     if args.image is None and not Path(image).is_file():
         raise ValueError("no IMAGE given and the bundled example photo is missing from this build")
 
-    from pix2pockets.pipeline.draw import encode_picture, render_result
-    from pix2pockets.pipeline.photo import load_image, suggest
-
-    detector = chosen_detector(args)  # None: the pipeline's default
     if args.time_budget is not None and not args.time_budget > 0:
         raise ValueError(f"--time-budget must be a positive number of seconds, got {args.time_budget}")
+    # first run after an install: say so, and compile the physics while the photo is read
+    compiling = compile_in_background()
+
+    from pix2pockets.pipeline.draw import encode_picture, render_result
+    from pix2pockets.pipeline.photo import load_image, suggest
+    from pix2pockets.pipeline.planning import default_planner
+
+    detector = chosen_detector(args)  # None: the pipeline's default
     planner = None  # the pipeline's default planner
     if args.agent:
         planner = load_agent_planner(args.agent)
     elif args.time_budget is not None:
-        from pix2pockets.pipeline.planning import default_planner
-
         planner = default_planner(args.time_budget)
+    if compiling is not None:
+        planner = AfterCompile(planner or default_planner(), compiling)
     rgb = load_image(image)
     from pix2pockets.geometry import table_preset
 

@@ -1,74 +1,72 @@
-"""The FastAPI app behind ``pix2pockets serve``: one page and a small JSON API.
+"""The FastAPI app behind ``pix2pockets serve``: one page, a small JSON API, a pool of workers behind a queue.
 
 Routes:
     ``GET /``: the page (one self-contained HTML file: inline CSS and JS, nothing fetched from elsewhere).
-    ``POST /api/suggest``: multipart ``file`` (the photo) and ``group`` (``auto``, ``solids`` or
-    ``stripes``); answers the JSON of ``pix2pockets suggest --json`` plus ``picture_png_base64``
-    (the result picture).
-    ``GET /api/example``: the bundled example photo.
-    ``GET /api/health``: ``{"status": "ok", ...}``.
+    ``POST /api/jobs``: multipart ``file`` (the photo) and ``group`` (``auto``, ``solids`` or ``stripes``);
+    answers 202 at once with the job's id; ``GET /api/jobs/{id}`` follows it (queued with the number of photos
+    ahead, then each stage, then the answer). ``?since=VERSION`` waits up to 15 s for the next change.
+    ``POST /api/suggest``: the same upload, answered when done: the JSON of ``pix2pockets suggest --json`` plus
+    ``picture_png_base64`` (the result picture) and ``picture_parts``.
+    ``GET /api/example``: the bundled example photo. ``GET /api/health``: ``{"status": "ok", ...}`` with the
+    pool's counts. ``GET /favicon.ico``: the icon.
 
-Every error is JSON ``{"error": "<one line>"}``: 400 bad upload or group, 413 upload too large,
-422 a readable photo where the table, the cue ball or the group's balls are not found, 503 no detector or
-planner in this build. The photo goes through the same functions as the CLI
-(:func:`~pix2pockets.pipeline.photo.load_image`, :func:`~pix2pockets.pipeline.photo.suggest`,
-:func:`~pix2pockets.pipeline.draw.render_result`).
+Every error is JSON ``{"error": "<one line>"}``: 400 bad upload or group, 404 unknown route or job, 413 upload
+too large, 422 a readable photo where the table, the cue ball or the group's balls are not found, 503 busy
+(with ``Retry-After``), shutting down, or no detector or planner in this build. The photo goes through the same
+functions as the CLI (see :mod:`pix2pockets.web.worker`).
 
 Example:
     >>> from pix2pockets.web.app import create_app
-    >>> app = create_app()  # doctest: +SKIP
+    >>> app = create_app(workers=2)  # doctest: +SKIP
     >>> import uvicorn; uvicorn.run(app)  # doctest: +SKIP
 """
 
 from __future__ import annotations
 
-import base64
+import functools
+import io
 import logging
-import threading
-from collections.abc import Callable
+from collections.abc import AsyncIterator, Callable
+from contextlib import asynccontextmanager
 from importlib import resources
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING
 
-import numpy as np
 from fastapi import FastAPI, Request
 from fastapi.exceptions import RequestValidationError
-from fastapi.responses import FileResponse, HTMLResponse, JSONResponse
+from fastapi.responses import FileResponse, HTMLResponse, JSONResponse, Response
 from starlette.concurrency import run_in_threadpool
 from starlette.datastructures import UploadFile
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from pix2pockets import __version__
-from pix2pockets.pipeline.planning import ShotPlanner
-from pix2pockets.state import Group
-from pix2pockets.vision.detect.base import Detector
 from pix2pockets.vision.image_io import MAX_PIXELS
+from pix2pockets.web.jobs import BusyError, Job, JobBoard
+from pix2pockets.web.pool import MAX_WAIT_S, WorkerPool
+from pix2pockets.web.worker import MAX_PICTURE_SIDE, EngineSpec, WebError, one_line
+
+if TYPE_CHECKING:  # the app's process stays light: the models and the pipeline live in the workers
+    from pix2pockets.pipeline.planning import ShotPlanner
+    from pix2pockets.vision.detect.base import Detector
 
 MAX_UPLOAD_BYTES = 20_000_000
 """Largest request body accepted [bytes]; larger uploads get a 413 before they are read in full."""
-MAX_PICTURE_SIDE = 2400
-"""Longest side of the result picture sent back [px] (bigger pictures are scaled down)."""
-GROUPS = ("auto", *(g.value for g in Group))
+GROUPS = ("auto", "solids", "stripes")
+"""``auto`` and the values of :class:`pix2pockets.state.Group`."""
+LONG_POLL_S = 15.0
+"""Longest a ``GET /api/jobs/{id}?since=N`` waits for the job to change [s]."""
 PAGE_CSP = (
     "default-src 'none'; script-src 'unsafe-inline'; style-src 'unsafe-inline'; "
     "img-src 'self' data: blob:; connect-src 'self'; form-action 'self'; base-uri 'none'"
 )
 
-log = logging.getLogger(__name__)
+__all__ = ["GROUPS", "MAX_PICTURE_SIDE", "MAX_UPLOAD_BYTES", "WebError", "create_app"]
+
+log = logging.getLogger("pix2pockets.web")
 
 
-class WebError(Exception):
-    """An error answered as ``{"error": message}`` with an HTTP status."""
-
-    def __init__(self, status: int, message: str) -> None:
-        super().__init__(message)
-        self.status = status
-        self.message = message
-
-
-def _error(status: int, message: str) -> JSONResponse:
-    line = " ".join(str(message).split()) or "error"
-    return JSONResponse({"error": line if len(line) <= 500 else line[:497] + "..."}, status_code=status)
+def _error(status: int, message: str, headers: dict[str, str] | None = None) -> JSONResponse:
+    return JSONResponse({"error": one_line(message)}, status_code=status, headers=headers)
 
 
 def _limited(receive: Callable, limit: int) -> Callable:
@@ -94,20 +92,26 @@ def _upload_name(upload: UploadFile) -> str:
     return name or "upload"
 
 
-def _png(rgb: np.ndarray, max_side: int) -> bytes:
-    import cv2
-
-    h, w = rgb.shape[:2]
-    if max(h, w) > max_side:
-        s = max_side / max(h, w)
-        rgb = cv2.resize(rgb, (round(w * s), round(h * s)), interpolation=cv2.INTER_AREA)
-    from pix2pockets.pipeline.draw import encode_picture
-
-    return encode_picture(rgb, ".png", fast=True)
-
-
 def _page() -> str:
     return resources.files("pix2pockets.web").joinpath("index.html").read_text(encoding="utf-8")
+
+
+@functools.lru_cache(maxsize=1)
+def favicon() -> bytes:
+    """A 32x32 icon: a black 8-ball on the cloth (ICO bytes, drawn here: nothing to ship or fetch)."""
+    from PIL import Image, ImageDraw
+
+    size = 128
+    im = Image.new("RGBA", (size, size), (0, 0, 0, 0))
+    draw = ImageDraw.Draw(im)
+    draw.rounded_rectangle((0, 0, size - 1, size - 1), radius=24, fill=(29, 107, 69, 255))
+    draw.ellipse((14, 14, size - 15, size - 15), fill=(18, 18, 18, 255))
+    draw.ellipse((40, 34, size - 41, size - 47), fill=(250, 250, 250, 255))
+    draw.ellipse((54, 44, size - 55, 62), outline=(18, 18, 18, 255), width=4)
+    draw.ellipse((52, 58, size - 53, 80), outline=(18, 18, 18, 255), width=4)
+    out = io.BytesIO()
+    im.resize((32, 32), Image.Resampling.LANCZOS).save(out, format="ICO", sizes=[(32, 32)])
+    return out.getvalue()
 
 
 def create_app(
@@ -117,65 +121,61 @@ def create_app(
     max_upload_bytes: int = MAX_UPLOAD_BYTES,
     max_pixels: int = MAX_PIXELS,
     example_photo: str | Path | None = None,
+    workers: int = 0,
+    queue: int | None = None,
+    job_timeout: float = 120.0,
+    max_wait: float | None = MAX_WAIT_S,
+    detector_factory: Callable[[], Detector | None] | None = None,
+    pool: WorkerPool | None = None,
 ) -> FastAPI:
     """The web app.
 
     Args:
-        detector: the detector (default: the bundled ONNX model, loaded at the first request).
+        detector: the detector (default: the bundled ONNX model); it must pickle when ``workers`` >= 1.
         planner: the shot planner (default: :func:`pix2pockets.pipeline.planning.default_planner`).
         max_upload_bytes: largest request body [bytes].
         max_pixels: largest decoded image [pixels] (decompression-bomb guard).
         example_photo: the photo behind ``GET /api/example`` (default: the bundled example).
+        workers: worker processes, each with its own models (0: one worker thread in this process).
+        queue: photos that may wait for a worker (default 4 per worker); more get 503 with ``Retry-After``.
+        job_timeout: longest one photo may take [s].
+        max_wait: refuse (503) a photo whose answer is expected later than this [s], from the mean job time and
+            the photos ahead (None: only ``queue`` limits).
+        detector_factory: makes the detector inside each worker (e.g. from ``--model``), instead of ``detector``.
+        pool: a pool already started (``pix2pockets serve`` starts it before serving); the arguments above that
+            describe workers are then ignored.
 
     Raises:
-        ValueError: for a non-positive limit.
+        ValueError: for a non-positive limit, or a negative number of workers or queue.
     """
     if max_upload_bytes < 1 or max_pixels < 1:
         raise ValueError("max_upload_bytes and max_pixels must be positive")
     from pix2pockets.data.examples import example_photo_path
 
+    if pool is None:
+        spec = EngineSpec(detector, planner, detector_factory, max_pixels, warm=workers > 0)
+        pool = WorkerPool(spec, workers, queue, job_timeout, max_wait)
+    board: JobBoard = pool.board
     example = Path(example_photo) if example_photo is not None else Path(example_photo_path())
     page = _page().replace("{{MAX_UPLOAD_BYTES}}", str(max_upload_bytes)).replace("{{VERSION}}", __version__)
-    slots: dict[str, Any] = {"detector": detector, "planner": planner}
-    busy = threading.Lock()  # one photo at a time: bounds memory (decoded photos) and shares the cores
 
-    def resolve(name: str, factory: Callable[[], Any]) -> Any:
-        if slots[name] is None:
-            try:
-                slots[name] = factory()
-            except (ValueError, OSError, ImportError) as err:
-                raise WebError(503, f"no {name} available: {err}") from None
-        return slots[name]
+    @asynccontextmanager
+    async def lifespan(app: FastAPI) -> AsyncIterator[None]:
+        await run_in_threadpool(pool.start)
+        yield
+        board.close()
+        await run_in_threadpool(pool.stop)
 
-    def run_pipeline(data: bytes, name: str, group: str) -> dict:
-        from pix2pockets.pipeline import photo
-        from pix2pockets.pipeline.draw import render_result
-        from pix2pockets.pipeline.planning import default_planner
-        from pix2pockets.vision.image_io import decode_image_rgb
-
-        with busy:
-            try:
-                rgb = photo.load_image(decode_image_rgb(data, name, max_pixels))
-            except ValueError as err:
-                raise WebError(400, str(err)) from None
-            det = resolve("detector", photo.default_detector)
-            plan = resolve("planner", default_planner)
-            try:
-                result = photo.suggest(rgb, group=group, detector=det, planner=plan)
-            except ValueError as err:
-                raise WebError(422, str(err)) from None
-            picture = _png(render_result(rgb, result), MAX_PICTURE_SIDE)
-        doc = result.to_dict()
-        doc["image"]["filename"] = name
-        doc["timings_s"] = {k: round(float(v), 4) for k, v in result.timings.items()}
-        doc["picture_png_base64"] = base64.b64encode(picture).decode("ascii")
-        return doc
-
-    app = FastAPI(title="pix2pockets", version=__version__, docs_url=None, redoc_url=None)
+    app = FastAPI(title="pix2pockets", version=__version__, docs_url=None, redoc_url=None, lifespan=lifespan)
+    app.state.pool = pool
 
     @app.exception_handler(WebError)
     async def web_error(request: Request, err: WebError) -> JSONResponse:
         return _error(err.status, err.message)
+
+    @app.exception_handler(BusyError)
+    async def busy_error(request: Request, err: BusyError) -> JSONResponse:
+        return _error(503, err.message, {"Retry-After": str(err.retry_after)})
 
     @app.exception_handler(StarletteHTTPException)
     async def http_error(request: Request, err: StarletteHTTPException) -> JSONResponse:
@@ -196,44 +196,79 @@ def create_app(
     async def index() -> HTMLResponse:
         return HTMLResponse(page, headers={"Content-Security-Policy": PAGE_CSP})
 
+    @app.get("/favicon.ico")
+    async def icon() -> Response:
+        return Response(favicon(), media_type="image/x-icon", headers={"Cache-Control": "max-age=86400"})
+
     @app.get("/api/health")
     async def health() -> dict:
         return {
-            "status": "ok",
+            "status": "shutting down" if board.closing else "ok",
             "version": __version__,
             "groups": list(GROUPS),
             "max_upload_bytes": max_upload_bytes,
             "example": example.is_file(),
+            **board.stats(),
         }
 
     @app.get("/api/example")
-    async def example_photo() -> FileResponse:
+    async def example_route() -> FileResponse:
         if not example.is_file():
             raise WebError(404, "the bundled example photo is missing from this build")
         return FileResponse(example, filename=example.name)
 
-    @app.post("/api/suggest")
-    async def suggest(request: Request) -> JSONResponse:
+    async def accept(request: Request, keep: bool) -> Job:
+        """Admit, read and check one upload; queue it as a job."""
         length = request.headers.get("content-length", "")
         if length.isdigit() and int(length) > max_upload_bytes:
             raise WebError(413, f"upload is too large (limit {max_upload_bytes / 1e6:.1f} MB)")
-        limited = Request(request.scope, _limited(request.receive, max_upload_bytes))
-        async with limited.form(max_files=1, max_fields=8) as form:
-            group = form.get("group", "auto")
-            if not isinstance(group, str) or group.strip().lower() not in GROUPS:
-                raise WebError(400, f"unknown group {str(group)[:40]!r}; choose {', '.join(GROUPS)}")
-            upload = form.get("file")
-            if not isinstance(upload, UploadFile):
-                raise WebError(400, "no photo uploaded (send it as the multipart file field 'file')")
-            data = await upload.read()
-            name = _upload_name(upload)
-        try:
-            doc = await run_in_threadpool(run_pipeline, data, name, group.strip().lower())
-        except WebError:
-            raise
-        except Exception as err:  # a bug, not bad input: log it, answer one line
-            log.exception("pipeline failed on %s", name)
-            raise WebError(500, f"internal error: {type(err).__name__}: {err}") from None
-        return JSONResponse(doc)
+        if not pool.started:
+            await run_in_threadpool(pool.start)
+        with board.admit() as submit:  # BusyError (503) before the body is read
+            limited = Request(request.scope, _limited(request.receive, max_upload_bytes))
+            async with limited.form(max_files=1, max_fields=8) as form:
+                group = form.get("group", "auto")
+                if not isinstance(group, str) or group.strip().lower() not in GROUPS:
+                    raise WebError(400, f"unknown group {str(group)[:40]!r}; choose {', '.join(GROUPS)}")
+                upload = form.get("file")
+                if not isinstance(upload, UploadFile):
+                    raise WebError(400, "no photo uploaded (send it as the multipart file field 'file')")
+                data = await upload.read()
+                name = _upload_name(upload)
+            _check_header(data, name, max_pixels)
+            return submit(data, name, group.strip().lower(), keep)
+
+    @app.post("/api/suggest")
+    async def suggest(request: Request) -> JSONResponse:
+        job = await accept(request, keep=False)
+        await board.wait_async(job)
+        headers = {"Retry-After": str(board.retry_after())} if job.status == 503 else None
+        return JSONResponse(job.doc, status_code=job.status or 500, headers=headers)
+
+    @app.post("/api/jobs", status_code=202)
+    async def submit_job(request: Request) -> JSONResponse:
+        job = await accept(request, keep=True)
+        doc = board.view(job)
+        doc["url"] = f"api/jobs/{job.id}"
+        return JSONResponse(doc, status_code=202)
+
+    @app.get("/api/jobs/{job_id}")
+    async def follow_job(job_id: str, since: int = -1) -> JSONResponse:
+        job = board.get(job_id)
+        if job is None:
+            raise WebError(404, "no such job (finished jobs are kept a few minutes)")
+        if since >= 0:
+            await board.wait_async(job, since, LONG_POLL_S)
+        return JSONResponse(board.view(job))
 
     return app
+
+
+def _check_header(data: bytes, name: str, max_pixels: int) -> None:
+    """Refuse what is plainly not a usable image from its header (the worker decodes the rest)."""
+    from pix2pockets.vision.image_io import probe_image
+
+    try:
+        probe_image(data, name, max_pixels)
+    except ValueError as err:
+        raise WebError(400, str(err)) from None

@@ -41,6 +41,7 @@ STOP_REST, STOP_FIRST_CONTACT, STOP_FIRST_POCKET = 0, 1, 2
 STATUS_OK, STATUS_TOO_MANY_EVENTS, STATUS_NOT_FINITE = 0, 1, 2
 N_CUSHIONS = 6  # the first 6 segments are cushion noses, the rest jaw faces
 _SURFACE_TOL = 1e-7  # [m] a resting centre further outside the surface than this has dropped
+_NO_BALL = np.int64(-1)
 
 
 @njit(cache=True, inline="always")
@@ -138,8 +139,10 @@ def run_shot(
         # earliest cached event
         best = INF
         kind = -1  # 0 pair, 1 env, 2 transition
-        bi = -1
-        bj = -1
+        # typed int64, not as the literal -1: a literal argument would make numba compile every callee
+        # once more for that literal (a slower first run, same code)
+        bi = _NO_BALL
+        bj = _NO_BALL
         for i in range(n):
             if et[i] < best:
                 best, kind, bi = et[i], 1, i
@@ -160,7 +163,7 @@ def run_shot(
         now = best
 
         c1 = bi
-        c2 = -1
+        c2 = _NO_BALL
         locked = False
         if kind == 0:
             c2 = bj
@@ -290,10 +293,15 @@ def run_shots(
         out_first: cue ball's first contact or -1, shape (m,); out_status / out_nev / out_time: status,
         event count and end time [s] per shot, shape (m,).
     """
+    n = pos0.shape[0]
     pos = np.empty_like(pos0)
-    pocket_of = np.empty(pos0.shape[0], dtype=np.int64)
+    pocket_of = np.empty(n, dtype=np.int64)
+    # element loops, not slice assignment: slice assignment compiles numba's shape-mismatch error
+    # formatting (several seconds of the first run's compile)
     for m in range(shots.shape[0]):
-        pos[:, :] = pos0
+        for i in range(n):
+            pos[i, 0] = pos0[i, 0]
+            pos[i, 1] = pos0[i, 1]
         nev, status, first, t_end = run_shot(
             pos,
             cue,
@@ -314,8 +322,10 @@ def run_shots(
             ev_e,
             pocket_of,
         )
-        out_pos[m] = pos
-        out_pocket[m] = pocket_of
+        for i in range(n):
+            out_pos[m, i, 0] = pos[i, 0]
+            out_pos[m, i, 1] = pos[i, 1]
+            out_pocket[m, i] = pocket_of[i]
         out_first[m] = first
         out_status[m] = status
         out_nev[m] = nev

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from pix2pockets.vision.table.cloth import enclosing_quad, tls_fit
+from pix2pockets.vision.table.quad_geometry import enclosing_quad, tls_fit
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.keypoints import TableCues, pixel_of_cell
 
