@@ -68,7 +68,7 @@ def test_head_on_collision_keeps_momentum_on_the_line(sim):
     assert result.first_contact == 1
     assert np.allclose(result.final.positions[:, 1], 0.6, atol=1e-6)
     cue_x, obj_x = result.final.positions[:, 0]
-    assert obj_x > 1.0 + 0.3 or sim.name == "pymunk"  # forward (pymunk: barely damped, it rebounds)
+    assert obj_x > 1.0 + 0.3 or sim.name in ("pymunk", "paper")  # forward (pymunk, paper: barely damped, it rebounds)
     assert cue_x < obj_x
 
 

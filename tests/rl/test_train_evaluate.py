@@ -185,3 +185,17 @@ def test_random_masked_baseline_uses_the_mask(env_id):
     # The stand-in's mask allows only successful directions.
     assert result.policy == "random-masked"
     assert result.shot_success.rate == 1.0
+
+
+def test_train_and_evaluate_on_paper_physics(tmp_path, capsys):
+    """`rl train --physics paper` trains on the paper's environment dynamics; the agent file remembers it."""
+    out = tmp_path / "paper"
+    argv = ["rl", "train", "--algo", "a2c", "--env", "all", "--steps", "40", "--physics", "paper"]
+    assert main([*argv, "--out", str(out), "--no-progress"]) == 0
+    meta = read_meta(out / "model.zip")
+    assert meta.choice.physics == "paper"
+    assert json.loads((out / "config.json").read_text())["physics"] == "paper"
+    assert main(["rl", "evaluate", "--model", str(out / "model.zip"), "--episodes", "5"]) == 0
+    assert "paper physics" in capsys.readouterr().out
+    random = evaluate_random(EnvChoice("all", physics="paper"), episodes=5, seed=0)
+    assert random.choice.physics == "paper" and random.shot_success.trials >= 5

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from pix2pockets.rl import missing_rl_modules
-from pix2pockets.rl.envs import EnvChoice, MaxPowerMask, read_outcome
+from pix2pockets.rl.envs import EnvChoice, MaxPowerMask, env_kwargs, read_outcome
 from pix2pockets.rl.evaluate import wilson_interval
 
 from .standin import N_DIR, N_POW, register_standin
@@ -46,6 +46,7 @@ def test_read_outcome(terminated, info, expected):
         ({"max_power": True}, "needs a mask"),
         ({"continuous": True, "mask": "direct"}, "discrete"),
         ({"env": ""}, "env must be"),
+        ({"physics": "pymunk"}, "physics must be"),
     ],
 )
 def test_env_choice_rejects_bad_input(kwargs, message):
@@ -56,6 +57,14 @@ def test_env_choice_rejects_bad_input(kwargs, message):
 def test_env_choice_maps_short_names():
     assert EnvChoice("all").env_id == "pix2pockets/AllBall-v0"
     assert EnvChoice.from_dict(EnvChoice("two", mask="mirror").to_dict()) == EnvChoice("two", mask="mirror")
+
+
+def test_env_choice_physics():
+    paper = EnvChoice("all", physics="paper")
+    assert EnvChoice.from_dict(paper.to_dict()) == paper
+    assert env_kwargs(paper)["physics"] == "paper" and "physics" not in env_kwargs(EnvChoice("all"))
+    legacy = {"env": "all", "continuous": False, "mask": None, "max_power": False}  # agent files without it
+    assert EnvChoice.from_dict(legacy).physics == "event"
 
 
 def test_max_power_mask_keeps_directions_and_only_top_power():

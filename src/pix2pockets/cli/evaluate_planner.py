@@ -4,6 +4,7 @@ Example::
 
     pix2pockets evaluate planner --planner search --balls 16 --layouts 1000 --seed 0 --noise fastfiz \\
         --json search-fastfiz.json
+    pix2pockets evaluate planner --physics paper --planner oracle --layouts 1000 --json paper-oracle.json
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ import argparse
 from pathlib import Path
 
 from pix2pockets.files import check_output, write_json
-from pix2pockets.planner.evaluation import BALL_SETS, evaluate_planner
+from pix2pockets.planner.evaluation import BALL_SETS, evaluate_planner, ours_protocol, paper_protocol
 from pix2pockets.planner.noise import noise_model
 from pix2pockets.planner.registry import PLANNER_NAMES, make_planner
 
@@ -36,7 +37,13 @@ def register(sub: argparse._SubParsersAction) -> None:
         "16 = all balls, clear solids then the 8 (16)",
     )
     parser.add_argument("--layouts", type=int, default=100, help="number of layouts / turns (100)")
-    parser.add_argument("--seed", type=int, default=0, help="seed of the layouts and noise (0)")
+    parser.add_argument(
+        "--seed",
+        type=int,
+        default=None,
+        help="seed of the layouts and noise (default 0; 12345 with the paper protocol, whose layout i is "
+        "drawn after np.random.seed(seed + i))",
+    )
     parser.add_argument(
         "--noise", default="none", help="execution noise: none, fastfiz, fastfiz5x, aim:<deg>, gauss:<deg>:<m/s>"
     )
@@ -45,7 +52,22 @@ def register(sub: argparse._SubParsersAction) -> None:
         default="auto",
         help="noise the search planner plans for (auto: the execution noise, fastfiz when that is none)",
     )
-    parser.add_argument("--physics", default="event", help="simulator backend: event or pymunk (event)")
+    parser.add_argument(
+        "--physics", default="event", help="simulator backend: event, paper (the paper's environment) or pymunk (event)"
+    )
+    parser.add_argument(
+        "--protocol",
+        choices=("auto", "ours", "paper"),
+        default="auto",
+        help="layouts, shooter and judgement: ours (solids, 8-ball rules) or paper (its start layouts on its "
+        "table, the stripes, its judgement; success = an own ball dropped); auto: paper with --physics paper",
+    )
+    parser.add_argument(
+        "--paper-defects",
+        default="",
+        help="paper protocol: comma-separated defects of its environment to switch back on: spawn-in-pocket "
+        "(balls may start inside a pocket circle), early-eight-wins (the 8 before the group's last ball wins)",
+    )
     parser.add_argument(
         "--time-budget", type=float, default=None, help="search decision limit [s] (default: none, reproducible)"
     )
@@ -58,6 +80,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 register_target = register
 
+PAPER_DEFECTS = ("spawn-in-pocket", "early-eight-wins")
+"""Defects of the paper's environment that ``--paper-defects`` can switch back on."""
+PAPER_PLANNING_NOISE = "gauss:0.125:0.01"
+"""The search planner's planning noise on the paper physics when execution is noiseless: FastFiz's aim
+noise and 1% of the paper's top speed (FastFiz's 0.075 m/s is 8% of it)."""
+
 
 def run(args: argparse.Namespace) -> int:
     from pix2pockets.physics import make_simulator
@@ -69,8 +97,25 @@ def run(args: argparse.Namespace) -> int:
     noise = noise_model(args.noise)
     planning = args.planning_noise
     if planning == "auto":
-        planning = "fastfiz" if noise.is_zero else args.noise
+        planning = (PAPER_PLANNING_NOISE if args.physics == "paper" else "fastfiz") if noise.is_zero else args.noise
     noise_model(planning)
+    protocol_name = args.protocol
+    if protocol_name == "auto":
+        protocol_name = "paper" if args.physics == "paper" else "ours"
+    defects = {d.strip() for d in args.paper_defects.split(",") if d.strip()}
+    unknown = defects - set(PAPER_DEFECTS)
+    if unknown:
+        raise ValueError(f"unknown --paper-defects {sorted(unknown)}; known: {', '.join(PAPER_DEFECTS)}")
+    if defects and protocol_name != "paper":
+        raise ValueError("--paper-defects applies to the paper protocol")
+    if protocol_name == "paper":
+        protocol = paper_protocol("spawn-in-pocket" in defects, "early-eight-wins" in defects)
+        seed = 12345 if args.seed is None else args.seed
+    else:
+        from pix2pockets.geometry.raster import paper_table
+
+        protocol = ours_protocol(paper_table() if args.physics == "paper" else None)
+        seed = 0 if args.seed is None else args.seed
     check_output(args.json, args.force)
     out = Path(args.json) if args.json else None
     sim = make_simulator(args.physics)
@@ -79,7 +124,7 @@ def run(args: argparse.Namespace) -> int:
         oracle_speed=args.oracle_speed,
     )  # fmt: skip
     summary = evaluate_planner(
-        planner, sim.simulate, args.balls, args.layouts, args.seed, noise, args.physics, not args.no_progress
+        planner, sim.simulate, args.balls, args.layouts, seed, noise, args.physics, not args.no_progress, protocol
     )
     data = summary.to_dict()
     data["planning_noise"] = planning if args.planner.startswith("search") else None
@@ -88,7 +133,7 @@ def run(args: argparse.Namespace) -> int:
     clo, chi = data["full_turn_clear_ci95"]
     print(
         f"{data['planner']} | {args.balls}-ball | noise {data['noise']} | physics {args.physics} | "
-        f"{summary.turns} layouts, {summary.shots} shots"
+        f"protocol {summary.protocol} | seed {seed} | {summary.turns} layouts, {summary.shots} shots"
     )
     print(f"  per-shot success  {data['per_shot_success']:.4f}  (95% CI {lo:.4f}-{hi:.4f})")
     print(f"  full-turn clear   {data['full_turn_clear']:.4f}  (95% CI {clo:.4f}-{chi:.4f})")

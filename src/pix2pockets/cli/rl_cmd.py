@@ -8,6 +8,8 @@ from pix2pockets.files import check_output, write_json
 
 ALGO_NAMES = ("ppo", "td3", "a2c", "ddpg", "sac", "maskable-ppo")
 ENV_HELP = "one, two, all (the paper's 1-ball, 2-ball, all-ball) or a registered Gymnasium id"
+PHYSICS = ("event", "paper")
+PHYSICS_HELP = "environment dynamics: event (default) or paper (the paper's own environment, table and powers)"
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -26,6 +28,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     tr.add_argument("--checkpoint-every", type=int, default=10_000, help="steps between checkpoints")
     tr.add_argument("--no-progress", action="store_true", help="no progress bar (e.g. for log files)")
     tr.add_argument("--tensorboard", metavar="DIR", help="also log to TensorBoard in DIR (off by default)")
+    tr.add_argument("--physics", choices=PHYSICS, default="event", help=PHYSICS_HELP)
     tr.set_defaults(func=run_train)
 
     ev = rl_sub.add_parser("evaluate", help="success rate (95%% interval) and full-turn rate of an agent")
@@ -34,6 +37,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     ev.add_argument("--env", help=f"with --policy random: {ENV_HELP}")
     ev.add_argument("--mask", choices=("direct", "mirror"), help="with --policy random: uniform among masked actions")
     ev.add_argument("--max-power", action="store_true", help="with --policy random --mask: strongest power only")
+    ev.add_argument("--physics", choices=PHYSICS, default=None, help=f"with --policy random: {PHYSICS_HELP}")
     ev.add_argument("--episodes", type=int, default=1000)
     ev.add_argument("--seed", type=int, default=12345, help="seed of the evaluation layouts (not a training seed)")
     ev.add_argument("--json", metavar="OUT.json", help="write the numbers as JSON")
@@ -79,6 +83,7 @@ def run_train(args: argparse.Namespace) -> int:
         checkpoint_every=args.checkpoint_every,
         progress=not args.no_progress,
         tensorboard=args.tensorboard,
+        physics=args.physics,
     )
     path = train(config, resume=args.resume)
     print(f"saved {path}")
@@ -96,12 +101,13 @@ def run_evaluate(args: argparse.Namespace) -> int:
     if args.policy == "random":
         if not args.env:
             raise ValueError("--policy random needs --env")
-        result = evaluate_random(
-            EnvChoice(env=args.env, mask=args.mask, max_power=args.max_power), args.episodes, args.seed
-        )
+        choice = EnvChoice(env=args.env, mask=args.mask, max_power=args.max_power, physics=args.physics or "event")
+        result = evaluate_random(choice, args.episodes, args.seed)
     else:
-        if args.mask or args.max_power:
-            raise ValueError("--mask / --max-power apply to --policy random; an agent file knows its own mask")
+        if args.mask or args.max_power or args.physics:
+            raise ValueError(
+                "--mask / --max-power / --physics apply to --policy random; an agent file knows its mask and physics"
+            )
         if not args.model:
             raise ValueError("give --model PATH (or --policy random --env ENV)")
         result = evaluate_model(args.model, args.episodes, args.seed)

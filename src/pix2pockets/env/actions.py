@@ -8,7 +8,12 @@ Discrete (the paper's): ``MultiDiscrete([n_angles, n_powers])`` = ``[36000, 30]`
 
 Continuous: ``Box(-1, 1, (2,))`` for TD3/SAC/DDPG:
     * ``a[0]`` -> ``180 * a[0]`` degrees;
-    * ``a[1]`` -> ``min_speed + (a[1] + 1) / 2 * (max_speed - min_speed)`` [m/s].
+    * ``a[1]`` -> ``min_speed + (a[1] + 1) / 2 * (continuous_max_speed - min_speed)`` [m/s]
+      (``continuous_max_speed`` defaults to ``max_speed``).
+
+With ``physics="paper"`` the environment uses the paper's power mapping (:func:`paper_action_map`): its
+30 levels ``(245 / 29 * (l - 1) + 5) * 2`` px/s (0.019-0.971 m/s, linear, so the same formula with those
+end points) and its continuous power ``(175 p + 5) * 2`` px/s, ``p = (a[1] + 1) / 2`` (up to 0.699 m/s).
 
 Execution noise (optional, off by default): Gaussian with standard deviation ``aim_noise_deg`` [deg] on
 the direction and ``speed_noise`` [m/s] on the speed (clipped at 0), drawn from the environment's
@@ -46,6 +51,7 @@ class ActionMap:
         max_speed: cue-ball speed of the highest power [m/s].
         aim_noise_deg: standard deviation of the Gaussian direction noise [deg].
         speed_noise: standard deviation of the Gaussian speed noise [m/s].
+        continuous_max_speed: cue-ball speed of the highest continuous power [m/s] (``None``: ``max_speed``).
     """
 
     action_type: ActionType = ActionType.DISCRETE
@@ -55,6 +61,7 @@ class ActionMap:
     max_speed: float = 8.0
     aim_noise_deg: float = 0.0
     speed_noise: float = 0.0
+    continuous_max_speed: float | None = None
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "action_type", ActionType(self.action_type))
@@ -64,6 +71,9 @@ class ActionMap:
             raise ValueError(f"need 0 < min_speed < max_speed [m/s], got {self.min_speed} and {self.max_speed}")
         if self.aim_noise_deg < 0 or self.speed_noise < 0:
             raise ValueError(f"noise must be >= 0, got aim {self.aim_noise_deg} deg, speed {self.speed_noise} m/s")
+        top = self.continuous_max_speed
+        if top is not None and not top > self.min_speed:
+            raise ValueError(f"continuous_max_speed must exceed min_speed [m/s], got {top}")
 
     @property
     def space(self) -> spaces.Space:
@@ -104,7 +114,8 @@ class ActionMap:
             return float(self.angle_of_bin(d)), float(self.speeds[p])
         x = np.clip(a.astype(float), -1.0, 1.0)  # SB3 may step slightly out of bounds before clipping
         angle = math.pi * float(x[0])
-        speed = self.min_speed + (float(x[1]) + 1.0) / 2.0 * (self.max_speed - self.min_speed)
+        top = self.max_speed if self.continuous_max_speed is None else self.continuous_max_speed
+        speed = self.min_speed + (float(x[1]) + 1.0) / 2.0 * (top - self.min_speed)
         return angle, speed
 
     def to_shot(self, action: np.ndarray, rng: np.random.Generator | None = None) -> Shot:
@@ -116,3 +127,21 @@ class ActionMap:
             speed = max(0.0, speed + self.speed_noise * float(rng.standard_normal()))
         angle = math.atan2(math.sin(angle), math.cos(angle))
         return Shot(angle=angle, speed=speed)
+
+
+def paper_action_map(
+    action_type: ActionType | str = ActionType.DISCRETE, aim_noise_deg: float = 0.0, speed_noise: float = 0.0
+) -> ActionMap:
+    """The paper's actions in SI units: 36000 directions, its 30 power levels, its continuous power range."""
+    from pix2pockets.physics.paper import PAPER_POWER_LEVELS, paper_continuous_speed, paper_level_speed
+
+    return ActionMap(
+        ActionType(action_type),
+        36_000,
+        PAPER_POWER_LEVELS,
+        float(paper_level_speed(1)),
+        float(paper_level_speed(PAPER_POWER_LEVELS)),
+        aim_noise_deg,
+        speed_noise,
+        paper_continuous_speed(1.0),
+    )

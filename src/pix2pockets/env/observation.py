@@ -19,8 +19,9 @@ opponent's; stripes 9-15 -> 1-7 when own); balls without a number fill the free 
 Units (``ObsUnits``):
     * ``normalized``: ``x / length`` and ``y / width`` in ``[0, 1]`` (table frame, origin at the head-bottom
       cushion-nose corner);
-    * ``paper_pixels``: the paper's environment pixels (735 x 410 window, 30 px rails; ``u`` right,
-      ``v`` down), see :mod:`pix2pockets.geometry.raster`.
+    * ``paper_pixels``: the paper's environment pixels (its nominal 735 x 410 window: the playing surface
+      spans u 40.5-694.5, v 40.5-369.5 inside a 29.5 px border and 11 px cushions; ``u`` right, ``v`` down),
+      see :func:`pix2pockets.geometry.raster.table_to_env_pixels`.
 
 Class code ``c``: 0 absent, 0.25 cue, 0.5 own, 0.75 opponent, 1.0 the 8-ball (the paper's class / 4).
 An absent slot (ball pocketed or not in this variant) is ``(-1, -1, 0)``.

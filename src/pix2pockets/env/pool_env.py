@@ -8,7 +8,7 @@ from typing import Any, ClassVar
 import gymnasium as gym
 import numpy as np
 
-from pix2pockets.env.actions import ActionMap, ActionType
+from pix2pockets.env.actions import ActionMap, ActionType, paper_action_map
 from pix2pockets.env.masks import (
     HitpointFinder,
     MaskKind,
@@ -20,7 +20,7 @@ from pix2pockets.env.masks import (
 from pix2pockets.env.observation import ObsUnits, assign_slots, encode, observation_space
 from pix2pockets.env.render import HumanWindow, draw_table
 from pix2pockets.env.reward import BallSetup, PaperReward, RewardFn, ShotContext, contact_departure
-from pix2pockets.geometry.raster import TableRaster
+from pix2pockets.geometry.raster import TableRaster, paper_table
 from pix2pockets.geometry.table import TableSpec, table_preset
 from pix2pockets.physics import Simulator, make_simulator
 from pix2pockets.rules import GameState, Outcome, own_balls, turn_outcome
@@ -49,7 +49,7 @@ class EpisodeMode(StrEnum):
 
 
 class PoolEnv(gym.Env):
-    """8-ball pool on a 9-foot table, one cue stroke per step.
+    """8-ball pool on a 9-foot table (or the paper's own table), one cue stroke per step.
 
     ## Description
     The agent sees every ball's position and class and plays one stroke per step: a direction and a
@@ -77,6 +77,9 @@ class PoolEnv(gym.Env):
     ``action_type="continuous"``: ``Box(-1, 1, (2,))``: direction ``180 * a[0]`` degrees, speed
     ``min_speed + (a[1] + 1) / 2 * (max_speed - min_speed)``. Optional Gaussian execution noise:
     ``aim_noise_deg`` [deg], ``speed_noise`` [m/s]. See :mod:`pix2pockets.env.actions`.
+    ``physics="paper"``: the paper's powers, 0.019-0.971 m/s in 30 levels (10-500 px/s in its world), up to
+    0.699 m/s continuous; the direction is the same table-frame angle (the paper's own pixel angle, with
+    ``v`` down, is its negative).
     ``action_masks()`` (discrete only) gives MaskablePPO the direction bins of the planner's hitpoints.
 
     ## Observation Space
@@ -122,10 +125,13 @@ class PoolEnv(gym.Env):
     * ``balls``: ``"one"``, ``"two"`` or ``"all"``.
     * ``action_type``: ``"discrete"`` or ``"continuous"``.
     * ``mode``: ``"turn"`` or ``"shot"`` (see Episode End).
-    * ``physics``: simulator backend name (``"pymunk"``: the paper's physics) or a ``Simulator``;
-      ``physics_params``: keyword parameters for the backend.
-    * ``table``: preset name (``"9ft"``, ``"8ft"``, ``"7ft"``) or a ``TableSpec``.
-    * ``n_angles``, ``n_powers``, ``min_speed``, ``max_speed``: the action mapping.
+    * ``physics``: simulator backend name (``"event"``, the default; ``"paper"``: the paper's own environment
+      dynamics on its table; ``"pymunk"``) or a ``Simulator``; ``physics_params``: keyword parameters for
+      the backend.
+    * ``table``: preset name (``"9ft"``, ``"8ft"``, ``"7ft"``) or a ``TableSpec``; default the 9-foot table,
+      the paper's (:func:`~pix2pockets.geometry.raster.paper_table`) with ``physics="paper"``.
+    * ``n_angles``, ``n_powers``, ``min_speed``, ``max_speed``: the action mapping (defaults 0.2-8.0 m/s;
+      the paper's power levels with ``physics="paper"``).
     * ``aim_noise_deg``, ``speed_noise``: execution noise (0 = none).
     * ``reward_fn``: a ``RewardFn`` (default ``PaperReward()``).
     * ``obs_units``: ``"normalized"`` or ``"paper_pixels"``.
@@ -150,11 +156,11 @@ class PoolEnv(gym.Env):
         mode: str = EpisodeMode.TURN,
         physics: str | Simulator | None = None,
         physics_params: dict[str, Any] | None = None,
-        table: str | TableSpec = "9ft",
+        table: str | TableSpec | None = None,
         n_angles: int = 36_000,
         n_powers: int = 30,
-        min_speed: float = 0.2,
-        max_speed: float = 8.0,
+        min_speed: float | None = None,
+        max_speed: float | None = None,
         aim_noise_deg: float = 0.0,
         speed_noise: float = 0.0,
         reward_fn: RewardFn | None = None,
@@ -168,10 +174,17 @@ class PoolEnv(gym.Env):
     ) -> None:
         self.setup = BallSetup(balls)
         self.mode = EpisodeMode(mode)
+        paper = physics == "paper"
+        if table is None:
+            table = paper_table() if paper else "9ft"
         self.spec_table = table if isinstance(table, TableSpec) else table_preset(table)
-        self.actions = ActionMap(
-            ActionType(action_type), n_angles, n_powers, min_speed, max_speed, aim_noise_deg, speed_noise
-        )
+        default_actions = min_speed is None and max_speed is None and (n_angles, n_powers) == (36_000, 30)
+        if paper and default_actions:
+            self.actions = paper_action_map(action_type, aim_noise_deg, speed_noise)
+        else:
+            lo = 0.2 if min_speed is None else min_speed
+            hi = 8.0 if max_speed is None else max_speed
+            self.actions = ActionMap(ActionType(action_type), n_angles, n_powers, lo, hi, aim_noise_deg, speed_noise)
         self.action_space = self.actions.space
         self.obs_units = ObsUnits(obs_units)
         self.observation_space = observation_space(self.obs_units)

@@ -10,8 +10,11 @@ from __future__ import annotations
 
 import importlib
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from enum import StrEnum
 from typing import Any, Protocol, runtime_checkable
+
+import numpy as np
 
 from pix2pockets.state import Shot, ShotResult, TableLayout
 
@@ -46,12 +49,49 @@ class Simulator(Protocol):
         ...
 
 
+@dataclass(frozen=True, slots=True)
+class BatchOutcome:
+    """Lean results of many shots from one layout (no per-event objects).
+
+    Attributes:
+        first_contact: the cue ball's first contact (layout index) or -1, shape (m,).
+        pocket: pocket index each ball dropped into or -1, shape (m, n).
+        final_positions: final centres [m] (pocketed balls: where they dropped), shape (m, n, 2).
+        status: 0 ok, 1 event budget exceeded, 2 non-finite numbers, shape (m,).
+        n_events: events per shot, shape (m,).
+        cue: the cue ball's layout index.
+    """
+
+    first_contact: np.ndarray
+    pocket: np.ndarray
+    final_positions: np.ndarray
+    status: np.ndarray
+    n_events: np.ndarray
+    cue: int
+
+    @property
+    def pocketed(self) -> np.ndarray:
+        """Boolean mask of pocketed balls, shape (m, n)."""
+        return self.pocket >= 0
+
+    @property
+    def cue_pocketed(self) -> np.ndarray:
+        """Whether the cue ball dropped, shape (m,)."""
+        return self.pocket[:, self.cue] >= 0
+
+    @property
+    def final_cue(self) -> np.ndarray:
+        """Final cue-ball centre [m], shape (m, 2)."""
+        return self.final_positions[:, self.cue]
+
+
 SimulatorFactory = Callable[..., Simulator]
 _REGISTRY: dict[str, SimulatorFactory] = {}
 # Built-in backends, imported on first use; each module calls register_simulator() on import.
 _BUILTIN_MODULES: dict[str, str] = {
     "event": "pix2pockets.physics.event",
     "pymunk": "pix2pockets.physics.pymunk_backend",
+    "paper": "pix2pockets.physics.paper",
 }
 
 

@@ -12,6 +12,11 @@ a legal pot of an own ball (or the winning 8); fouls count as failures. In the 1
 shot succeeds when the cue ball drops. Per-shot success is successes over all shots played; full-turn
 clear is the fraction of turns that pot the whole group and then the 8 (or the single target) without a
 miss or foul.
+
+Two protocols (:class:`Protocol`): ``ours`` (layout ``i`` from ``default_rng([seed, i, 0])`` on the chosen
+table, the shooter on solids, our 8-ball rules) and ``paper`` (the paper environment's own start layouts
+``np.random.seed(seed + i)`` on its table, the shooter on stripes, its judgement of a shot; see
+:mod:`pix2pockets.planner.paper_protocol`).
 """
 
 from __future__ import annotations
@@ -26,8 +31,11 @@ import numpy as np
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.planner.base import Planner, legal_targets, lone_cue
 from pix2pockets.planner.noise import NO_NOISE, NoiseModel
-from pix2pockets.rules import GameState, Outcome, turn_outcome
+from pix2pockets.rules import GameState, Outcome, TurnResult, turn_outcome
 from pix2pockets.state import Group, Shot, ShotResult, TableLayout, random_layout
+
+Judge = Callable[[ShotResult, GameState], TurnResult]
+"""Judges a shot: ``turn_outcome`` (our 8-ball rules) or the paper's."""
 
 BALL_SETS: dict[int, tuple[int, ...]] = {1: (0,), 2: (0, 8), 16: tuple(range(16))}
 """Ball numbers per environment (as in ``pix2pockets/OneBall-v0``, ``TwoBall-v0``, ``AllBall-v0``)."""
@@ -58,6 +66,61 @@ def environment_state(balls: int) -> GameState:
     return GameState(Group.SOLIDS)
 
 
+def continues_or_wins(turn: TurnResult) -> bool:
+    """Our per-shot success: a legal pot of an own ball (the turn goes on) or the winning 8."""
+    return turn.shot_succeeded
+
+
+@dataclass(frozen=True, slots=True)
+class Protocol:
+    """Where turns start, who shoots and how a shot is judged.
+
+    Attributes:
+        name: ``ours`` or ``paper``.
+        layout: ``(balls, seed, i) -> TableLayout``, the start of turn ``i``.
+        state: the shooter's group.
+        judge: judges each shot.
+        success: whether a judged shot counts as a success per shot.
+    """
+
+    name: str
+    layout: Callable[[int, int, int], TableLayout]
+    state: GameState
+    judge: Judge
+    success: Callable[[TurnResult], bool] = continues_or_wins
+
+
+def ours_protocol(spec: TableSpec | None = None) -> Protocol:
+    """Our protocol: layout ``i`` from ``default_rng([seed, i, 0])`` on ``spec``, solids, 8-ball rules."""
+
+    def layout(balls: int, seed: int, i: int) -> TableLayout:
+        return sample_environment(balls, np.random.default_rng([seed, i, 0]), spec)
+
+    return Protocol("ours", layout, GameState(Group.SOLIDS), turn_outcome)
+
+
+def paper_protocol(spawn_in_pocket: bool = False, early_eight_wins: bool = False) -> Protocol:
+    """The paper environment's protocol: its start layout after ``np.random.seed(seed + i)``, the stripes,
+    its judgement. The two flags switch its defects back on (see :mod:`pix2pockets.planner.paper_protocol`)."""
+    from pix2pockets.planner.paper_protocol import (
+        PAPER_SHOOTER,
+        paper_shot_success,
+        paper_start_layout,
+        paper_turn_outcome,
+    )
+
+    def layout(balls: int, seed: int, i: int) -> TableLayout:
+        return paper_start_layout(seed + i, balls, spawn_in_pocket)
+
+    def judge(result: ShotResult, state: GameState) -> TurnResult:
+        return paper_turn_outcome(result, state, early_eight_wins)
+
+    name = "paper" + "".join(
+        f"+{flag}" for flag, on in (("spawn-in-pocket", spawn_in_pocket), ("early-eight-wins", early_eight_wins)) if on
+    )
+    return Protocol(name, layout, GameState(PAPER_SHOOTER), judge, paper_shot_success)
+
+
 @dataclass(frozen=True, slots=True)
 class TurnRecord:
     """One turn.
@@ -85,6 +148,8 @@ def play_turn(
     noise: NoiseModel = NO_NOISE,
     rng: np.random.Generator | None = None,
     max_shots: int = 30,
+    judge: Judge = turn_outcome,
+    success: Callable[[TurnResult], bool] | None = None,
 ) -> TurnRecord:
     """Shoot until a miss, a foul or a cleared table.
 
@@ -96,7 +161,10 @@ def play_turn(
         noise: turns the planned shot into the executed one.
         rng: randomness for the planner and the noise.
         max_shots: safety cap on the turn length.
+        judge: judges each shot (default: our 8-ball rules).
+        success: whether a judged shot counts as a success (default: it continues the turn or wins).
     """
+    success = success or continues_or_wins
     rng = rng if rng is not None else np.random.default_rng(0)
     plan_rng, noise_rng = (np.random.default_rng(s) for s in rng.bit_generator.seed_seq.spawn(2))
     shots = successes = 0
@@ -123,13 +191,13 @@ def play_turn(
             result = simulate(layout, shot)
         except RuntimeError:  # a simulator time-out counts as a failed shot
             return TurnRecord(shots, successes, False, None, tuple(times))
-        turn = turn_outcome(result, state)
+        turn = judge(result, state)
         outcome = turn.outcome
+        successes += bool(success(turn))
         if outcome is Outcome.WIN:
-            return TurnRecord(shots, successes + 1, True, outcome, tuple(times))
+            return TurnRecord(shots, successes, True, outcome, tuple(times))
         if outcome is not Outcome.CONTINUE:
             return TurnRecord(shots, successes, False, outcome, tuple(times))
-        successes += 1
         layout, state = result.final, GameState(turn.group)
         if layout.cue_index is None:  # cannot happen on a legal shot; guard anyway
             return TurnRecord(shots, successes, False, outcome, tuple(times))
@@ -150,6 +218,7 @@ class EvaluationSummary:
     successes: int
     clears: int
     decision_times: tuple[float, ...] = field(default=(), repr=False)
+    protocol: str = "ours"
 
     @property
     def per_shot_success(self) -> float:
@@ -168,6 +237,7 @@ class EvaluationSummary:
             "noise": self.noise,
             "balls": self.balls,
             "seed": self.seed,
+            "protocol": self.protocol,
             "layouts": self.turns,
             "shots": self.shots,
             "per_shot_success": self.per_shot_success,
@@ -189,11 +259,16 @@ def evaluate_planner(
     noise: NoiseModel = NO_NOISE,
     physics: str = "",
     progress: bool = False,
+    protocol: Protocol | None = None,
 ) -> EvaluationSummary:
-    """Run ``layouts`` seeded turns; layout ``i`` depends only on ``(seed, i)`` (not on the planner)."""
+    """Run ``layouts`` seeded turns; layout ``i`` depends only on ``(seed, i)`` (not on the planner).
+
+    ``protocol`` (default :func:`ours_protocol`) gives the layouts, the shooter and the judgement.
+    """
     if layouts < 1:
         raise ValueError(f"layouts must be >= 1, got {layouts}")
-    state = environment_state(balls)
+    protocol = protocol or ours_protocol()
+    state = protocol.state
     shots = successes = clears = 0
     times: list[float] = []
     it = range(layouts)
@@ -202,8 +277,9 @@ def evaluate_planner(
 
         it = tqdm(it, desc=f"{planner.name} {balls}-ball", unit="turn")
     for i in it:
-        layout = sample_environment(balls, np.random.default_rng([seed, i, 0]))
-        rec = play_turn(layout, state, planner, simulate, noise, np.random.default_rng([seed, i, 1]))
+        layout = protocol.layout(balls, seed, i)
+        rng = np.random.default_rng([seed, i, 1])
+        rec = play_turn(layout, state, planner, simulate, noise, rng, judge=protocol.judge, success=protocol.success)
         shots += rec.shots
         successes += rec.successes
         clears += rec.cleared
@@ -211,16 +287,20 @@ def evaluate_planner(
         if progress:
             it.set_postfix(shot=f"{successes / max(shots, 1):.3f}", clear=f"{clears / (i + 1):.3f}")
     return EvaluationSummary(
-        planner.name, physics, noise.name, balls, seed, layouts, shots, successes, clears, tuple(times)
+        planner.name, physics, noise.name, balls, seed, layouts, shots, successes, clears, tuple(times), protocol.name
     )
 
 
 __all__ = [
     "BALL_SETS",
     "EvaluationSummary",
+    "Judge",
+    "Protocol",
     "TurnRecord",
     "environment_state",
     "evaluate_planner",
+    "ours_protocol",
+    "paper_protocol",
     "play_turn",
     "sample_environment",
     "wilson_interval",

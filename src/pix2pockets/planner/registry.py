@@ -9,6 +9,8 @@ from typing import Any
 from pix2pockets.planner.base import Planner
 from pix2pockets.planner.hitpoints import ShotKind
 from pix2pockets.planner.oracle import OracleConfig, OracleMode, OraclePlanner
+from pix2pockets.planner.paper_oracle import PaperOracleConfig, PaperOraclePlanner
+from pix2pockets.planner.paper_protocol import paper_search_config
 from pix2pockets.planner.search import SearchConfig, SearchPlanner
 
 _ORACLES: dict[str, OracleConfig] = {
@@ -39,6 +41,11 @@ def make_planner(
 ) -> Planner:
     """Build a planner by name.
 
+    With ``physics="paper"`` the Oracle variants are the paper's Oracle as its code computes it
+    (:class:`~pix2pockets.planner.paper_oracle.PaperOraclePlanner`, always at the paper's power levels) and the
+    search planner plays the paper's 30 power levels without spin, by the paper's judgement
+    (:func:`~pix2pockets.planner.paper_protocol.paper_search_config`).
+
     Args:
         name: one of :data:`PLANNER_NAMES`.
         physics: simulator backend the search planner verifies with.
@@ -47,6 +54,13 @@ def make_planner(
         oracle_speed: the Oracle's "max power" stroke speed [m/s] (default ``OracleConfig.max_speed``).
         search_overrides: further :class:`SearchConfig` fields.
     """
+    if name in _ORACLES and physics == "paper":
+        if oracle_speed is not None:
+            raise ValueError("the paper's Oracle plays the paper's top power level; --oracle-speed does not apply")
+        base = _ORACLES[name]
+        paper = PaperOraclePlanner(PaperOracleConfig(mode=base.mode, mirror=base.mirror))
+        paper.name = name
+        return paper
     if name in _ORACLES:
         cfg = _ORACLES[name]
         if oracle_speed is not None:
@@ -58,6 +72,8 @@ def make_planner(
         return planner
     if name in _SEARCHES:
         kw = {**_SEARCHES[name], **search_overrides}
+        if physics == "paper":
+            kw = {**paper_search_config(), **kw}
         planner = SearchPlanner(SearchConfig(physics=physics, noise=noise, time_budget=time_budget, **kw))
         planner.name = name
         return planner

@@ -39,6 +39,7 @@ from pix2pockets.physics import Simulator, make_simulator
 from pix2pockets.planner.base import Suggestion, cue_pot_suggestions, fallback_shot, legal_targets, lone_cue
 from pix2pockets.planner.hitpoints import Hitpoint, ShotKind, find_hitpoints
 from pix2pockets.planner.noise import GaussianNoise, noise_model
+from pix2pockets.planner.paper_protocol import paper_continues
 from pix2pockets.planner.position import fast_position_value, pot_probability
 from pix2pockets.rules import GameState, Outcome, turn_outcome
 from pix2pockets.state import BallClass, Shot, TableLayout
@@ -80,6 +81,9 @@ class SearchConfig:
             best ``endgame_candidates`` hitpoints are also tried with the endgame stroke set (with a
             ``time_budget``, only while at least half of it is left).
         time_budget: wall-clock limit per decision [s], ``None`` for none.
+        rules: what counts as a successful stroke: ``8ball`` (a legal pot: own ball first, no scratch, the
+            8 only when it wins) or ``paper`` (the paper's judgement: own balls drop and neither the cue
+            ball, the 8 nor an opponent's ball does; see :mod:`pix2pockets.planner.paper_protocol`).
         simulator_params: keyword parameters for the simulator backend.
     """
 
@@ -106,6 +110,7 @@ class SearchConfig:
     endgame_scale: int = 2
     rescue_below: float = 0.9
     time_budget: float | None = 0.5
+    rules: str = "8ball"
     simulator_params: dict = field(default_factory=dict, hash=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -133,6 +138,8 @@ class SearchConfig:
                 "must combine to tip offsets within 0.5 ball radius"
             )
         noise_model(self.noise)  # validate the name early
+        if self.rules not in ("8ball", "paper"):
+            raise ValueError(f"SearchConfig.rules must be '8ball' or 'paper', got {self.rules!r}")
 
 
 @dataclass(slots=True)
@@ -386,16 +393,18 @@ class SearchPlanner:
             final[i, list(res.final_ids)] = res.final.positions
         return first, pocket, final
 
-    @staticmethod
-    def _success(first: np.ndarray, pocket: np.ndarray, layout: TableLayout, state: GameState) -> np.ndarray:
+    def _success(self, first: np.ndarray, pocket: np.ndarray, layout: TableLayout, state: GameState) -> np.ndarray:
         """Legal pot of an own ball (or the winning 8), from lean outcome arrays.
 
         Mirrors :func:`~pix2pockets.rules.turn_outcome` for the success case: a pot makes the
-        no-rail rule moot, so first contact, scratch, the 8 and own pots decide.
+        no-rail rule moot, so first contact, scratch, the 8 and own pots decide. With ``rules="paper"``
+        it mirrors :func:`~pix2pockets.planner.paper_protocol.paper_turn_outcome` (continue or win).
         """
         cue, black = layout.cue_index, layout.black_index
         if lone_cue(layout):  # the 1-ball task: the cue ball is the target
             return pocket[:, cue] >= 0
+        if self.config.rules == "paper" and state.group is not None:
+            return paper_continues(pocket, layout, state)
         classes = np.array([b.ball_class.value for b in layout.balls])
         potted = pocket >= 0
         valid_first = first >= 0

@@ -25,6 +25,8 @@ ENV_IDS: dict[str, str] = {
 """Short names of the paper's three environments."""
 
 MASKS = ("direct", "mirror")
+PHYSICS = ("event", "paper")
+"""Simulator backends the RL runs use (``paper``: the paper's own environment dynamics)."""
 EPISODE_KEYS = ("ep_shots", "ep_successes", "ep_won")
 """Per-episode counters :class:`ShotOutcome` adds to the final ``info`` (and to the monitor CSV)."""
 
@@ -38,12 +40,15 @@ class EnvChoice:
         continuous: the ``Box`` action variant (TD3, SAC, DDPG) instead of ``MultiDiscrete([36000, 30])``.
         mask: hitpoint mask for MaskablePPO (``direct`` or ``mirror`` = direct + mirror), or ``None``.
         max_power: restrict the power part of the mask to the strongest level (needs ``mask``).
+        physics: simulator backend of the environment: ``event`` (default) or ``paper`` (the paper's own
+            environment dynamics, table and power levels).
     """
 
     env: str = "one"
     continuous: bool = False
     mask: str | None = None
     max_power: bool = False
+    physics: str = "event"
 
     def __post_init__(self) -> None:
         if not self.env:
@@ -54,6 +59,8 @@ class EnvChoice:
             raise ValueError("max_power restricts the action mask, so it needs a mask (direct or mirror)")
         if self.continuous and self.mask is not None:
             raise ValueError("action masks exist for the discrete action space only")
+        if self.physics not in PHYSICS:
+            raise ValueError(f"physics must be one of {PHYSICS}, got {self.physics!r}")
 
     @property
     def env_id(self) -> str:
@@ -61,7 +68,13 @@ class EnvChoice:
         return ENV_IDS.get(self.env, self.env)
 
     def to_dict(self) -> dict[str, Any]:
-        return {"env": self.env, "continuous": self.continuous, "mask": self.mask, "max_power": self.max_power}
+        return {
+            "env": self.env,
+            "continuous": self.continuous,
+            "mask": self.mask,
+            "max_power": self.max_power,
+            "physics": self.physics,
+        }
 
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> EnvChoice:
@@ -70,6 +83,7 @@ class EnvChoice:
             continuous=bool(data.get("continuous", False)),
             mask=data.get("mask"),
             max_power=bool(data.get("max_power", False)),
+            physics=str(data.get("physics", "event")),
         )
 
 
@@ -95,6 +109,8 @@ def env_kwargs(choice: EnvChoice) -> dict[str, Any]:
         kwargs["action_type"] = "continuous"
     if choice.mask is not None:
         kwargs["mask_kind"] = choice.mask
+    if choice.physics != "event":
+        kwargs["physics"] = choice.physics
     return kwargs
 
 

@@ -103,7 +103,8 @@ class EvalResult:
         steps = "" if self.trained_steps is None else f", trained {self.trained_steps} steps"
         return "\n".join(
             [
-                f"{self.policy} on {self.choice.env_id}{steps}: {self.episodes} episodes, seed {self.seed}",
+                f"{self.policy} on {self.choice.env_id} ({self.choice.physics} physics){steps}: "
+                f"{self.episodes} episodes, seed {self.seed}",
                 f"  success per shot:  {fmt(self.shot_success)}",
                 f"  first shot:        {fmt(self.first_shot_success)}",
                 f"  full turn:         {fmt(self.full_turn)}",

@@ -29,7 +29,7 @@ FINAL = "model.zip"
 CONFIG = "config.json"
 STINTS = "stints.jsonl"
 # Only these config fields must match when resuming (steps may grow, progress / checkpointing may change).
-_RESUME_KEYS = ("algo", "env", "mask", "max_power", "seed", "overrides")
+_RESUME_KEYS = ("algo", "env", "mask", "max_power", "seed", "overrides", "physics")
 
 
 @dataclass(frozen=True, slots=True)
@@ -48,6 +48,7 @@ class TrainConfig:
         progress: show a progress bar.
         tensorboard: TensorBoard log directory (off by default).
         overrides: extra algorithm constructor arguments (e.g. ``{"n_steps": 64}`` in tests).
+        physics: the environment's simulator backend (``event`` or ``paper``).
     """
 
     algo: str
@@ -61,6 +62,7 @@ class TrainConfig:
     progress: bool = True
     tensorboard: str | None = None
     overrides: dict[str, Any] = field(default_factory=dict)
+    physics: str = "event"
 
     def __post_init__(self) -> None:
         spec = algo_spec(self.algo)
@@ -79,7 +81,11 @@ class TrainConfig:
     @property
     def choice(self) -> EnvChoice:
         return EnvChoice(
-            env=self.env, continuous=algo_spec(self.algo).continuous, mask=self.mask, max_power=self.max_power
+            env=self.env,
+            continuous=algo_spec(self.algo).continuous,
+            mask=self.mask,
+            max_power=self.max_power,
+            physics=self.physics,
         )
 
 
@@ -125,7 +131,7 @@ def save_agent(model: Any, config: TrainConfig, path: Path) -> None:
 
 
 def _check_resume(config: TrainConfig, out: Path) -> None:
-    saved = json.loads((out / CONFIG).read_text())
+    saved = {"physics": "event", **json.loads((out / CONFIG).read_text())}  # a config without it: event
     mine = asdict(config)
     diff = [k for k in _RESUME_KEYS if saved.get(k) != mine.get(k)]
     if diff:

@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
-from pix2pockets.physics.base import StopAfter
+from pix2pockets.physics.base import BatchOutcome, StopAfter
 from pix2pockets.physics.event._engine import (
     STATUS_NOT_FINITE,
     STATUS_OK,
@@ -55,42 +55,6 @@ def pack_table(spec: TableSpec) -> tuple[np.ndarray, ...]:
     pk_r = np.array([p.capture_radius for p in spec.pockets], dtype=float)
     size = np.array([spec.length, spec.width], dtype=float)
     return (seg_a, np.ascontiguousarray(seg_u), seg_n, seg_len, pts, pt_jaw, pk_c, pk_r, size)
-
-
-@dataclass(frozen=True, slots=True)
-class BatchOutcome:
-    """Lean results of many shots from one layout (no per-event objects).
-
-    Attributes:
-        first_contact: the cue ball's first contact (layout index) or -1, shape (m,).
-        pocket: pocket index each ball dropped into or -1, shape (m, n).
-        final_positions: final centres [m] (pocketed balls: where they dropped), shape (m, n, 2).
-        status: 0 ok, 1 event budget exceeded, 2 non-finite numbers, shape (m,).
-        n_events: events per shot, shape (m,).
-        cue: the cue ball's layout index.
-    """
-
-    first_contact: np.ndarray
-    pocket: np.ndarray
-    final_positions: np.ndarray
-    status: np.ndarray
-    n_events: np.ndarray
-    cue: int
-
-    @property
-    def pocketed(self) -> np.ndarray:
-        """Boolean mask of pocketed balls, shape (m, n)."""
-        return self.pocket >= 0
-
-    @property
-    def cue_pocketed(self) -> np.ndarray:
-        """Whether the cue ball dropped, shape (m,)."""
-        return self.pocket[:, self.cue] >= 0
-
-    @property
-    def final_cue(self) -> np.ndarray:
-        """Final cue-ball centre [m], shape (m, 2)."""
-        return self.final_positions[:, self.cue]
 
 
 class EventSimulator:
