@@ -1,9 +1,11 @@
 """Table fits on real phone photos, checked against the dataset's whole-table boxes.
 
 The snooker-vision photos carry no diamonds, but each has a box around the whole table (class 1). A fitted table
-(the bundled detector's diamonds, the pipeline's post-processing, ``fit_table``) is drawn into the photo as the
-outer edge of its rails; the bounding box of that outline should cover the labelled box. A fit *agrees* when their
-IoU is at least ``--min-iou``. A labelled box may be cut by the frame or, in a mosaic, drawn round pasted content,
+(the bundled detector's diamonds and balls, the pipeline's post-processing, ``estimate_table`` over the cues chosen
+with ``--cues``: the diamonds alone, the cloth outline alone, or both) is drawn into the photo as the outer edge of
+its rails (yellow; the playing surface magenta, the head rail red); the bounding box of that outline's part in
+front of the camera, cut to the photo, should cover the labelled box. A fit *agrees* when their IoU is at least
+``--min-iou``. A labelled box may be cut by the frame or, in a mosaic, drawn round pasted content,
 so a low IoU is a flag to look at (``--draw DIR``), not proof of a wrong fit.
 
 Photos: ``benchmarks/data/real_phone_photos.json`` (one copy of each of the 80 phone photos).
@@ -44,12 +46,19 @@ def rail_outline_px(fit: TableFit) -> np.ndarray:
 
 
 def table_box_iou(fit: TableFit, table_boxes: np.ndarray) -> float:
-    """Best IoU of the fitted rail outline's bounding box, cut to the photo as the labels are, with the labelled
-    table boxes (NaN without any)."""
+    """Best IoU of the bounding box of the fitted rails' outer edge (the part in front of the camera), cut to the photo
+    as the labels are, with the labelled table boxes (NaN without any)."""
     if not len(table_boxes):
         return float("nan")
-    outline = rail_outline_px(fit)
-    if not np.all(np.isfinite(outline)):
+    # points along the rails' outer edge, those in front of the camera (a close table's near corners may not be)
+    spec = fit.spec
+    corners = np.asarray(spec.corners, dtype=float)
+    corners = corners + np.sign(corners - corners.mean(axis=0)) * spec.rail_width
+    t = np.linspace(0.0, 1.0, 41)[:, None, None]
+    edges = (corners[None] + t * (np.roll(corners, -1, axis=0) - corners)[None]).reshape(-1, 2)
+    outline = fit.camera.project_table(edges, spec.cushion_height)
+    outline = outline[np.all(np.isfinite(outline), axis=1)]
+    if not len(outline):
         return 0.0
     w, h = fit.camera.image_size
     box = np.clip(np.concatenate([outline.min(axis=0), outline.max(axis=0)]), 0, [w, h, w, h])
@@ -98,10 +107,13 @@ def main() -> None:
 
             args.draw.mkdir(parents=True, exist_ok=True)
             drawn = cv2.cvtColor(image, cv2.COLOR_RGB2BGR)
-            cv2.polylines(drawn, [rail_outline_px(fit).astype(np.int32).reshape(-1, 1, 2)], True, (0, 255, 255), 2)
-            cv2.polylines(drawn, [fit.corners_px.astype(np.int32).reshape(-1, 1, 2)], True, (255, 0, 255), 1)
-            head = fit.table_to_image(np.array([[0.0, 0.0], [0.0, fit.spec.width]]))
-            cv2.line(drawn, tuple(int(v) for v in head[0]), tuple(int(v) for v in head[1]), (0, 0, 255), 2)
+            outlines = ((rail_outline_px(fit), (0, 255, 255), 2), (fit.corners_px, (255, 0, 255), 1))
+            for outline, colour, width in outlines:
+                if np.all(np.isfinite(outline)):  # a close table's near corners may lie behind the camera
+                    cv2.polylines(drawn, [outline.astype(np.int32).reshape(-1, 1, 2)], True, colour, width)
+            head = fit.table_to_image(np.array([[0.0, 0.0], [0.0, fit.spec.width]]))  # the head rail, red
+            if np.all(np.isfinite(head)):
+                cv2.line(drawn, tuple(int(v) for v in head[0]), tuple(int(v) for v in head[1]), (0, 0, 255), 2)
             cv2.imwrite(str(args.draw / (path.stem + ".png")), drawn)
     fits = [r for r in rows if r["fit"]]
     agree = [r for r in fits if r["table_box_iou"] >= args.min_iou]

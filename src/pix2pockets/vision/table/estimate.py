@@ -26,8 +26,9 @@ from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.table.cloth import ClothOutline, find_cloth
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.fit import TableFit, diamond_height, fit_table
-from pix2pockets.vision.table.outline_fit import CUSHION_WIDTH, fit_outline, outline_rectangle
-from pix2pockets.vision.table.pixel_aspect import pixel_aspect_of_photo, snapped_aspect
+from pix2pockets.vision.table.outline_camera import CUSHION_WIDTH, outline_rectangle
+from pix2pockets.vision.table.outline_fit import fit_outline
+from pix2pockets.vision.table.pixel_aspect import pixel_aspect_of_balls, pixel_aspect_of_photo, snapped_aspect
 
 CUES = ("diamonds", "cloth", "all")
 """What :func:`estimate_table` may fit the table to."""
@@ -36,6 +37,10 @@ CORNER_TOLERANCE = 0.03
 """A fit lands on a cloth corner within this fraction of the image diagonal."""
 DIAMOND_TOLERANCE = 0.01
 """A fit explains a diamond within this fraction of the image diagonal."""
+MIN_BALLS = 2
+"""A cloth fit with fewer balls on its table must rest on a clear outline: ..."""
+MIN_CONFIDENCE_WITHOUT_BALLS = 0.3
+"""... all four cushions seen and a region this table-like (walls, floors and furniture make rectangles too)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -54,8 +59,9 @@ class CueScore:
 
     @property
     def total(self) -> float:
-        """One number to rank fits: a diamond and a ball count one each, a corner two."""
-        return self.diamonds + 2.0 * self.corners + self.balls
+        """One number to rank fits: a ball and a cloth corner count one each, a diamond one and a half (a diamond
+        fit has passed stricter checks than a cloth outline)."""
+        return 1.5 * self.diamonds + self.corners + self.balls
 
 
 def explained_cues(
@@ -99,7 +105,8 @@ def estimate_table(
         spec: the table; ``None`` for a cloth fit measures its size from the balls (``size_source="balls"``) and
             matches diamonds to a 9-foot table.
         cues: ``"diamonds"``, ``"cloth"`` or ``"all"``.
-        pixel_aspect: width over height of one pixel (default: read from the balls).
+        pixel_aspect: width over height of one pixel (default: read from the balls); 1 lets the cloth outline try
+            the usual export stretches of a square photo too.
 
     Returns:
         The :class:`TableFit` explaining the most cues; ``source`` says which it came from.
@@ -116,14 +123,16 @@ def estimate_table(
     balls = detections[detections.is_ball]
     sure = balls[balls.own_score >= MIN_BALL_SCORE]
     diamonds = detections[detections.is_diamond].centres
-    if pixel_aspect is None:
+    measured = pixel_aspect
+    if measured is None:
         if rgb is not None:
-            pixel_aspect = pixel_aspect_of_photo(rgb, balls.boxes, balls.own_score)
+            measured = pixel_aspect_of_photo(rgb, balls.boxes, balls.own_score)
         else:
-            from pix2pockets.vision.table.pixel_aspect import pixel_aspect_of_balls
-
-            pixel_aspect = pixel_aspect_of_balls(balls.boxes, balls.own_score)
-    aspect = snapped_aspect(float(pixel_aspect))
+            measured = pixel_aspect_of_balls(balls.boxes, balls.own_score)
+    aspect = snapped_aspect(float(measured))
+    # square pixels may just mean that nothing showed a stretch: the outline fit then weighs the usual export
+    # stretches itself (a four-cornered outline shows the stretch a squashed photo has)
+    outline_aspect = aspect if aspect != 1.0 else None
 
     fits: list[TableFit] = []
     reasons: list[str] = []
@@ -137,23 +146,31 @@ def estimate_table(
     if cues in ("cloth", "all") and rgb is not None:
         try:
             cloth = find_cloth(rgb, sure.boxes)
-            fits.append(
-                fit_outline(
-                    cloth.corners_px,
-                    image_size,
-                    spec,
-                    sure.boxes,
-                    diamonds,
-                    cloth.pocket_darkness,
-                    aspect,
-                )
+            fit = fit_outline(
+                cloth.corners_px,
+                image_size,
+                spec,
+                seen=cloth.seen,
+                ball_boxes=sure.boxes,
+                diamonds=diamonds,
+                pocket_darkness=cloth.pocket_darkness,
+                cloth_mask=cloth.mask,
+                pixel_aspect=outline_aspect,
             )
+            on_table = explained_cues(fit, np.zeros((0, 2)), None, sure.centres).balls
+            if on_table < MIN_BALLS and not (cloth.seen.all() and cloth.confidence >= MIN_CONFIDENCE_WITHOUT_BALLS):
+                raise TableFitError(
+                    f"no table found: a cloth without balls on it ({on_table}) must show all four cushions clearly"
+                )
+            fits.append(fit)
         except TableFitError as err:
             reasons.append(f"cloth: {_reason(err)}")
     if not fits:
         raise TableFitError(
-            "no table found: " + "; ".join(reasons) + " (show the whole table: its cloth, four cushions and pockets"
-            + (", or the rails with their sights" if cues != "cloth" else "")
+            "no table found: "
+            + "; ".join(reasons)
+            + " (show the whole table: its cloth with the four cushions and pockets"
+            + (", or two rails with their sights" if cues != "cloth" else "")
             + ")"
         )
     if len(fits) == 1:
@@ -167,5 +184,7 @@ def estimate_table(
 
 
 def _reason(err: TableFitError) -> str:
-    text = str(err)
-    return text.removeprefix("no table found: ")
+    """An error's reason without its lead-in and its advice (the estimate gives one piece of advice for all)."""
+    text = str(err).removeprefix("no table found: ")
+    cut = text.find(" (show ")
+    return text if cut < 0 else text[:cut]

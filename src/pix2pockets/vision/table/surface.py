@@ -18,9 +18,9 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from pix2pockets.vision.table.quad_geometry import enclosing_quad, tls_fit
 from pix2pockets.vision.table.errors import TableFitError
-from pix2pockets.vision.table.keypoints import TableCues, pixel_of_cell
+from pix2pockets.vision.table.keypoints import TableCues, cell_of_pixel, pixel_of_cell
+from pix2pockets.vision.table.quad_geometry import enclosing_quad, tls_fit
 
 SURFACE_THRESHOLD = 0.5
 UPSAMPLE = 4
@@ -63,12 +63,20 @@ class SurfaceOutline:
     confidence: float
 
 
-def _largest_region(surface: np.ndarray, threshold: float) -> np.ndarray:
+def _table_region(surface: np.ndarray, threshold: float, marks: np.ndarray, min_cells: float) -> np.ndarray:
+    """The surface region that is the table: of the regions of at least ``min_cells`` cells, the one holding the most
+    ``marks`` (ball centres and corner peaks, in cells), then the largest; holes filled."""
     on = (surface >= threshold).astype(np.uint8)
     n, labels, stats, _ = cv2.connectedComponentsWithStats(on, connectivity=8)
     if n <= 1:
         return np.zeros_like(on)
-    k = 1 + int(np.argmax(stats[1:, cv2.CC_STAT_AREA]))
+    h, w = on.shape
+    ij = np.round(marks).astype(int).reshape(-1, 2)
+    ij = ij[(ij[:, 0] >= 0) & (ij[:, 0] < w) & (ij[:, 1] >= 0) & (ij[:, 1] < h)]
+    held = np.bincount(labels[ij[:, 1], ij[:, 0]], minlength=n) if len(ij) else np.zeros(n, dtype=int)
+    areas = stats[:, cv2.CC_STAT_AREA]
+    rank = [(held[k], areas[k]) if areas[k] >= min_cells else (-1, areas[k]) for k in range(1, n)]
+    k = 1 + max(range(n - 1), key=lambda i: rank[i])
     region = (labels == k).astype(np.uint8)
     contours, _ = cv2.findContours(region, cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_NONE)
     cv2.drawContours(region, contours, -1, 1, thickness=cv2.FILLED)  # balls and players leave no holes
@@ -127,16 +135,21 @@ def _snap_to_peaks(corners: np.ndarray, cues: TableCues) -> tuple[np.ndarray, np
     return out, moved
 
 
-def surface_outline(cues: TableCues, threshold: float = SURFACE_THRESHOLD) -> SurfaceOutline:
-    """The playing surface's four sides from the table model's cues.
+def surface_outline(
+    cues: TableCues, ball_centres_px: np.ndarray | None = None, threshold: float = SURFACE_THRESHOLD
+) -> SurfaceOutline:
+    """The playing surface's four sides from the table model's cues; ``ball_centres_px`` (n, 2) [px] tell the
+    table's region from other surface-like regions (a wall, a bar top).
 
     Raises:
         TableFitError: no surface region large enough, or none a quadrilateral encloses.
     """
     box = cues.letterbox
     w, h = cues.image_size
-    region = _largest_region(cues.surface, threshold)
     cell_area = (4.0 / box.scale) ** 2
+    balls = np.zeros((0, 2)) if ball_centres_px is None else np.asarray(ball_centres_px, dtype=float).reshape(-1, 2)
+    marks = cell_of_pixel(np.concatenate([balls, cues.corners_px]) * box.scale)
+    region = _table_region(cues.surface, threshold, marks, MIN_AREA_FRACTION * w * h / cell_area)
     if region.sum() * cell_area < MIN_AREA_FRACTION * w * h:
         raise TableFitError(
             "no table found: no playing surface in the photo (show the table's cloth and at least three cushions)"

@@ -1,0 +1,217 @@
+"""Cameras from a table's outline: four corners, or three sides and a focal length.
+
+The cloth-coloured region of a table ends at the back of the cushion tops, where the rails begin: a rectangle
+:data:`CUSHION_WIDTH` outside the playing surface on every side, at the cushion-nose height
+(:func:`outline_rectangle`). Its four image corners fix a plane homography and, with square pixels and the principal
+point at the image centre, a camera (:func:`camera_from_outline`); :func:`rectangle_cost` says how well any camera
+can see the corners as a rectangle of the table's proportions. Three sides and a focal length fix a camera too
+(:func:`complete_three_lines`).
+"""
+
+from __future__ import annotations
+
+import math
+
+import cv2
+import numpy as np
+from scipy.optimize import least_squares
+
+from pix2pockets.geometry.camera import PinholeCamera
+from pix2pockets.geometry.homography import fit_homography, pose_from_homography
+from pix2pockets.geometry.table import TableSpec
+from pix2pockets.vision.table.errors import TableFitError
+
+CUSHION_WIDTH = 0.05
+"""Width of the cloth-covered cushion top, from the nose to the rail [m] (real tables about 4.5-5.5 cm)."""
+FOCAL_RANGE = (0.3, 8.0)
+"""Focal lengths tried, as multiples of the larger (unstretched) image side."""
+COS_SIGMA = 0.03  # expected error of the cosine between the table's axes seen through the corners
+RATIO_SIGMA = 0.04  # expected error of the log length ratio of the table's axes
+FOCAL_SIGMA = 0.7  # log-normal prior on the focal length around the larger image side
+
+
+def outline_rectangle(spec: TableSpec, offset: float = CUSHION_WIDTH) -> np.ndarray:
+    """Corners of the cloth outline [m], (4, 2), in ``TableSpec.corners`` order: the playing surface grown by
+    ``offset`` on every side."""
+    L, W, c = spec.length, spec.width, offset
+    return np.array([[-c, -c], [L + c, -c], [L + c, W + c], [-c, W + c]])
+
+
+def rectangle_cost(H: np.ndarray, image_size: tuple[float, float], focal_prior: float) -> tuple[float, float]:
+    """How well a camera can see the plane rectangle behind homography ``H`` (plane metres -> pixels) as drawn.
+
+    For focal lengths over :data:`FOCAL_RANGE`, the back-projected plane axes ``K^-1 h1`` and ``K^-1 h2`` must be
+    orthogonal and of equal length (a rotation). Returns ``(cost, focal [px])`` at the best focal length; the cost
+    is a sum of squared normalised errors, about 0-3 for a rectangle of the right proportions.
+    """
+    w, h = image_size
+    A = np.array([[1.0, 0.0, -w / 2], [0.0, 1.0, -h / 2], [0.0, 0.0, 1.0]]) @ H
+    f = focal_prior * np.exp(np.linspace(math.log(FOCAL_RANGE[0]), math.log(FOCAL_RANGE[1]), 121))
+    scale = np.column_stack([1 / f, 1 / f, np.ones_like(f)])
+    h1, h2 = A[:, 0][None, :] * scale, A[:, 1][None, :] * scale
+    n1, n2 = np.linalg.norm(h1, axis=1), np.linalg.norm(h2, axis=1)
+    cos = np.sum(h1 * h2, axis=1) / (n1 * n2)
+    ratio = np.log(n1 / n2)
+    cost = (cos / COS_SIGMA) ** 2 + (ratio / RATIO_SIGMA) ** 2 + (np.log(f / focal_prior) / FOCAL_SIGMA) ** 2
+    k = int(np.argmin(cost))
+    return float(cost[k]), float(f[k])
+
+
+def cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross product of two 3-vectors (``np.cross`` is slow for single vectors)."""
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+
+
+def intrinsics(f: float, image_size: tuple[float, float]) -> np.ndarray:
+    return np.array([[f, 0.0, image_size[0] / 2], [0.0, f, image_size[1] / 2], [0.0, 0.0, 1.0]])
+
+
+def stretched(camera: PinholeCamera, aspect: float, image_size: tuple[int, int]) -> PinholeCamera:
+    """A camera fitted on a photo with its x axis divided by ``aspect``, for the photo itself (``image_size``)."""
+    K = np.diag([aspect, 1.0, 1.0]) @ camera.K
+    return PinholeCamera(K, camera.R, camera.t, (int(image_size[0]), int(image_size[1])))
+
+
+def head_rail_convention(camera: PinholeCamera, spec: TableSpec) -> PinholeCamera:
+    """The camera relabelled so the head rail is the short rail further left and lower in the image (the convention
+    of :mod:`pix2pockets.vision.table.fit`): the table frame turned by 180 degrees where needed."""
+    head = camera.project_table(np.array([0.0, spec.width / 2]), spec.cushion_height)
+    foot = camera.project_table(np.array([spec.length, spec.width / 2]), spec.cushion_height)
+    if (head[0] - foot[0]) - (head[1] - foot[1]) <= 0:
+        return camera
+    D = np.diag([-1.0, -1.0, 1.0])
+    c = np.array([spec.length, spec.width, 0.0])
+    return PinholeCamera(camera.K, camera.R @ D, camera.R @ c + camera.t, camera.image_size)
+
+
+def quick_camera(
+    quad: np.ndarray, size: tuple[float, float], spec: TableSpec, offset: float, focal: float | None = None
+) -> tuple[PinholeCamera, float] | None:
+    """Camera (square pixels) seeing the outline of ``spec`` at ``quad`` (4, 2) [px, table corner order] and its
+    rectangle cost, from the homography alone; None for a degenerate quadrilateral."""
+    world = outline_rectangle(spec, offset)
+    try:
+        H = fit_homography(world, quad)
+    except ValueError:
+        return None
+    cost, f = rectangle_cost(H, size, max(size))
+    if focal is not None:
+        f = focal
+    R, t = pose_from_homography(H, intrinsics(f, size), spec.cushion_height, spec.size / 2)
+    return PinholeCamera(intrinsics(f, size), R, t, (round(size[0]), round(size[1]))), cost
+
+
+def refined(camera: PinholeCamera, world3: np.ndarray, image: np.ndarray, focal_prior: float) -> PinholeCamera:
+    """``camera`` refined by least squares on the points ``world3`` (n, 3) [m] seen at ``image`` (n, 2) [px]: focal
+    length, rotation and translation, with a weak prior on the focal length."""
+    w, h = camera.image_size
+    centre = np.array([camera.K[0, 2], camera.K[1, 2]])
+
+    def residuals(p: np.ndarray) -> np.ndarray:
+        R = cv2.Rodrigues(p[1:4])[0]
+        cam = world3 @ R.T + p[4:7]
+        proj = cam[:, :2] / cam[:, 2:3] * math.exp(p[0]) + centre
+        return np.concatenate([(proj - image).ravel(), [(p[0] - math.log(focal_prior)) / FOCAL_SIGMA]])
+
+    p0 = np.concatenate([[math.log(camera.K[1, 1])], cv2.Rodrigues(camera.R)[0].ravel(), camera.t])
+    try:
+        sol = least_squares(residuals, p0, method="lm", x_scale="jac", max_nfev=200)
+    except ValueError:
+        return camera
+    if not np.all(np.isfinite(sol.x)) or sol.cost > 0.5 * float(np.sum(residuals(p0) ** 2)) + 1e-9:
+        return camera
+    f = math.exp(sol.x[0])
+    return PinholeCamera(intrinsics(f, (w, h)), cv2.Rodrigues(sol.x[1:4])[0], sol.x[4:7].copy(), (w, h))
+
+
+def camera_from_outline(
+    corners_px: np.ndarray,
+    image_size: tuple[int, int],
+    spec: TableSpec,
+    pixel_aspect: float = 1.0,
+    offset: float = CUSHION_WIDTH,
+    focal_px: float | None = None,
+) -> tuple[PinholeCamera, float, float]:
+    """The camera that sees the cloth outline of ``spec`` at ``corners_px`` (4, 2) [px], corner ``k`` being
+    ``outline_rectangle(spec)[k]``, refined by least squares on the corners. Returns ``(camera, rectangle cost,
+    corner rms [px])``.
+
+    Args:
+        focal_px: focal length [px of image height] to start from and keep close to (default: the one the corners
+            imply, :func:`rectangle_cost`).
+
+    Raises:
+        TableFitError: the corners give no camera.
+    """
+    aspect = float(pixel_aspect)
+    corners = np.asarray(corners_px, dtype=float) / np.array([aspect, 1.0])
+    size = (image_size[0] / aspect, image_size[1])
+    quick = quick_camera(corners, size, spec, offset, focal_px)
+    if quick is None:
+        raise TableFitError("no table found: the cloth outline's corners are degenerate")
+    camera, cost = quick
+    world3 = np.column_stack([outline_rectangle(spec, offset), np.full(4, spec.cushion_height)])
+    camera = refined(camera, world3, corners, focal_px or camera.K[1, 1])
+    err = np.linalg.norm(camera.project(world3) - corners, axis=1)
+    rms = float(np.sqrt(np.mean(err**2))) if np.all(np.isfinite(err)) else math.inf
+    return stretched(camera, aspect, image_size), cost, rms
+
+
+def complete_three_lines(
+    lines: np.ndarray,
+    focal: float,
+    image_size: tuple[float, float],
+    mid_length: float,
+    side_length: float,
+    inner: np.ndarray,
+) -> np.ndarray | None:
+    """The quadrilateral of a rectangle seen with three of its sides, for a camera of focal length ``focal`` [px]
+    (square pixels, principal point at the image centre).
+
+    Args:
+        lines: the lines ``a u + b v + c = 0`` of three consecutive sides (3, 3): before, middle, after.
+        focal: focal length [px].
+        image_size: (width, height) [px].
+        mid_length: the rectangle's side along the middle line [m].
+        side_length: its side along the other two [m].
+        inner: a point inside the rectangle in the image [px] (on which side of the middle line the rectangle lies).
+
+    Returns:
+        The corners (4, 2) [px]: middle-line start, middle-line end, then the two corners on the unseen side; None
+        when the lines give no rectangle in front of the camera.
+    """
+    before, mid, after = (np.asarray(x, dtype=float) for x in lines)
+    K = intrinsics(focal, image_size)
+    Kinv = np.array([[1 / focal, 0.0, -K[0, 2] / focal], [0.0, 1 / focal, -K[1, 2] / focal], [0.0, 0.0, 1.0]])
+    p1, p2, v = cross3(before, mid), cross3(mid, after), cross3(before, after)
+    if abs(p1[2]) < 1e-12 or abs(p2[2]) < 1e-12:
+        return None
+    r1, r2 = Kinv @ (p1 / p1[2]), Kinv @ (p2 / p2[2])
+    perp = Kinv @ v
+    along = cross3(K.T @ mid, perp)
+    if np.linalg.norm(perp) < 1e-12 or np.linalg.norm(along) < 1e-12:
+        return None
+    perp, along = perp / np.linalg.norm(perp), along / np.linalg.norm(along)
+    # X2 - X1 = mid_length * along (either sign), X1 = l1 r1, X2 = l2 r2
+    A = np.column_stack([r1, -r2])
+    best = None
+    for sign in (1.0, -1.0):
+        lam, *_ = np.linalg.lstsq(A, -sign * mid_length * along, rcond=None)
+        if lam[0] > 0 and lam[1] > 0:
+            best = (lam, sign)
+    if best is None:
+        return None
+    (l1, l2), _ = best
+    X1, X2 = l1 * r1, l2 * r2
+    inner_h = np.array([inner[0], inner[1], 1.0])
+    for sign in (1.0, -1.0):
+        X4 = X1 + sign * side_length * perp
+        X3 = X2 + sign * side_length * perp
+        if X3[2] <= 1e-6 or X4[2] <= 1e-6:
+            continue
+        probe = K @ (X1 + 0.01 * side_length * sign * perp)
+        if probe[2] <= 0 or np.sign(mid @ (probe / probe[2])) != np.sign(mid @ inner_h):
+            continue
+        p3, p4 = K @ X3, K @ X4
+        return np.array([p1[:2] / p1[2], p2[:2] / p2[2], p3[:2] / p3[2], p4[:2] / p4[2]])
+    return None

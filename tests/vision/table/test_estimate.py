@@ -1,0 +1,91 @@
+"""One table estimate over every cue: the bundled example render, drawn photos, analytic views, no table."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from pix2pockets.data.examples import example_labels_path, example_photo_path
+from pix2pockets.geometry import TableSpec, table_preset
+from pix2pockets.pipeline.photo import load_image
+from pix2pockets.state import Ball, TableLayout
+from pix2pockets.vision.detect.analytic import analytic_detections, detections_from_synth_labels, standard_views
+from pix2pockets.vision.detect.detections import Detections
+from pix2pockets.vision.locate.balls import locate_balls
+from pix2pockets.vision.table.errors import TableFitError
+from pix2pockets.vision.table.estimate import estimate_table
+from tests.vision.table.test_cloth import BALLS, draw_table_photo, view
+
+LABELS = json.loads(Path(example_labels_path()).read_text())
+EXAMPLE_SPEC = table_preset(LABELS["table"]["name"])
+
+
+@pytest.fixture(scope="module")
+def example():
+    return load_image(example_photo_path()), detections_from_synth_labels(LABELS)
+
+
+def ball_errors(fit, det, spec: TableSpec) -> np.ndarray:
+    """Distance [m] of each located ball to the nearest true ball, the fit's frame turned to the render's."""
+    truth = np.array([b["centre_table_m"][:2] for b in LABELS["balls"] if b["labelled"]])
+    xy = locate_balls(fit.camera, det, fit.spec).positions * (spec.length / fit.spec.length)
+    turned = np.column_stack([spec.length - xy[:, 0], spec.width - xy[:, 1]])
+    errors = [np.linalg.norm(p[:, None] - truth[None], axis=-1).min(axis=1) for p in (xy, turned)]
+    return min(errors, key=lambda e: float(e.mean()))
+
+
+def test_cloth_alone_locates_the_balls_of_the_example(example):
+    rgb, det = example
+    balls = det[det.is_ball]  # no diamonds: the table from its cloth alone, its size from the balls
+    fit = estimate_table(rgb, balls)
+    assert fit.source == "cloth" and fit.size_source == "balls" and fit.spec.name == EXAMPLE_SPEC.name
+    err = ball_errors(fit, balls, EXAMPLE_SPEC)
+    assert len(err) == len(balls)
+    assert err.max() < 0.02
+
+
+def test_diamonds_and_cloth_agree_on_the_example(example):
+    rgb, det = example
+    fit = estimate_table(rgb, det, spec=EXAMPLE_SPEC)
+    assert fit.source == "diamonds+cloth" and fit.size_source == "given" and fit.n_matched >= 6
+    truth = np.array([c["px_cloth"] for c in LABELS["corners"]])
+    assert min(np.abs(np.roll(fit.corners_px, k, axis=0) - truth).max() for k in (0, 2)) < 4.0
+
+
+def test_cues_select_the_fit(example):
+    rgb, det = example
+    assert estimate_table(rgb, det, cues="diamonds").source == "diamonds"
+    assert estimate_table(rgb, det, cues="cloth").source == "cloth"
+    with pytest.raises(ValueError, match="cues must be one of"):
+        estimate_table(rgb, det, cues="pockets")
+
+
+@pytest.mark.parametrize("kind", ["oblique", "end"])
+def test_drawn_photo_long_and_short_rails(kind):
+    camera = view(kind)
+    img, boxes = draw_table_photo(camera)
+    det = Detections(boxes, np.ones(len(boxes)), np.full(len(boxes), 2))
+    fit = estimate_table(img, det)
+    truth = camera.project_table(TableSpec().corners, 0.0)
+    assert fit.spec.name == "9ft"
+    assert min(np.abs(np.roll(fit.corners_px, k, axis=0) - truth).max() for k in (0, 2)) < 4.0
+
+
+def test_diamonds_without_a_photo():
+    spec = TableSpec()
+    camera = standard_views(spec)["45"]
+    layout = TableLayout((Ball.numbered(0), Ball.numbered(3)), BALLS[:2], spec)
+    fit = estimate_table(None, analytic_detections(camera, layout), camera.image_size)
+    assert fit.source == "diamonds" and fit.n_matched == 18
+    with pytest.raises(ValueError, match="image_size"):
+        estimate_table(None, analytic_detections(camera, layout))
+
+
+def test_no_table_says_what_is_missing():
+    img = np.zeros((360, 640, 3), np.uint8)
+    img[:] = (200, 190, 170)  # a bare wall
+    with pytest.raises(TableFitError, match=r"^no table found: diamonds: .*; cloth: .*show the whole table"):
+        estimate_table(img, Detections.empty())
