@@ -125,3 +125,27 @@ def test_bundled_detector_on_the_squashed_example_finds_the_same_balls():
     assert abs(len(a) - len(b)) <= 1
     assert np.median(np.linalg.norm(a[:, None] - b[None], axis=-1).min(axis=1)) < 0.01
     assert squashed.to_dict()["table"]["pixel_aspect"] == pytest.approx(0.5625, rel=0.02)
+
+
+class NoDiamondsDetector(LabelsDetector):
+    """The labelled balls only: a table whose sights are not seen."""
+
+    def detect(self, image_rgb):
+        det = super().detect(image_rgb)
+        return det[det.is_ball]
+
+
+def test_without_diamonds_the_table_model_finds_the_table_and_its_size():
+    from pix2pockets.vision.table.keypoints import TableModel
+
+    if not TableModel.default_path().is_file():
+        pytest.skip("no table model committed")
+    res = suggest(example_photo_path(), detector=NoDiamondsDetector())
+    doc = res.to_dict()["table"]
+    assert doc["source"] == "surface" and doc["size_source"] == "balls" and doc["size"]["name"] == SPEC.name
+    xy = aligned(res.layout.positions * SPEC.length / res.spec.length)
+    err = np.linalg.norm(xy[:, None] - true_layout().positions[None], axis=-1).min(axis=1)
+    assert np.median(err) < 0.02 and err.max() < 0.05  # metres, from the surface alone
+    assert suggest(example_photo_path(), detector=NoDiamondsDetector(), table_model=False).to_dict()["table"][
+        "source"
+    ] == "cloth"

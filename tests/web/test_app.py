@@ -125,7 +125,6 @@ def test_bad_images_are_400(rendered, make, match):
 @pytest.mark.parametrize(
     ("drop", "group", "match"),
     [
-        (("dot",), "auto", "too few table points"),
         (("cue",), "auto", "no cue ball"),
         (("solid", "black"), "solids", "no solids"),
         (("solid", "stripe", "black"), "auto", "no object balls"),
@@ -135,6 +134,20 @@ def test_photos_without_what_is_needed_are_422(rendered, drop, group, match):
     data, labels = rendered
     r = post(client_for(labels, drop), data, group)
     assert r.status_code == 422 and match in r.json()["error"]
+
+
+def test_a_photo_without_a_table_is_422(rendered):
+    r = post(client_for(rendered[1], ("dot",)), png_bytes((360, 640, 3)))
+    assert r.status_code == 422 and "no table found" in r.json()["error"]
+
+
+def test_a_table_whose_diamonds_are_not_seen_is_found_from_its_surface(rendered):
+    data, labels = rendered
+    if not photo.TableModel.default_path().is_file():
+        pytest.skip("no table model committed")
+    r = post(client_for(labels, ("dot",)), data)
+    assert r.status_code == 200
+    assert r.json()["table"]["source"] == "surface" and r.json()["table"]["size_source"] == "balls"
 
 
 @pytest.mark.parametrize("group", ["", "spots", "SOLIDS and more", "x" * 500])

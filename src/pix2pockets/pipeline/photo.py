@@ -27,8 +27,11 @@ from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.locate.balls import LocateMethod, locate_balls
 from pix2pockets.vision.stages.ball_classifier import NUMBER_PROBS
 from pix2pockets.vision.stages.ball_numbers import BallNumberReader, assign_numbers
-from pix2pockets.vision.table.fit import fit_table
+from pix2pockets.vision.table.errors import TableFitError
+from pix2pockets.vision.table.estimate import estimate_table
+from pix2pockets.vision.table.keypoints import TableModel
 from pix2pockets.vision.table.rail_height import refine_fit_height
+from pix2pockets.vision.table.surface import SurfaceOutline, surface_outline
 
 MIN_IMAGE_SIDE = 64  # [px]
 # Minimum confidence per class id (cue, black, solid, stripe, diamond). Cue and black are capped at one
@@ -101,6 +104,23 @@ def clean_detections(raw: Detections) -> Detections:
     return det[(score >= MIN_CONFIDENCE[det.class_id]) | sure_ball]
 
 
+@functools.lru_cache(maxsize=1)
+def default_table_model() -> TableModel | None:
+    """The bundled table model, loaded once per process; None in a checkout without its weights."""
+    return TableModel.from_option(None)
+
+
+def read_surface(rgb: np.ndarray, det: Detections, table_model: TableModel | bool | None) -> SurfaceOutline | None:
+    """The playing surface the table model sees (None without a model or without a surface in the photo)."""
+    model = default_table_model() if table_model is True else table_model or None
+    if model is None:
+        return None
+    try:
+        return surface_outline(model.read(rgb), det[det.is_ball].centres)
+    except TableFitError:
+        return None
+
+
 def read_numbers(
     rgb: np.ndarray, balls: Detections, number_reader: BallNumberReader | bool | None
 ) -> list[tuple[int | None, float | None]]:
@@ -132,6 +152,8 @@ def suggest(
     rng: np.random.Generator | None = None,
     measure_rail_height: bool = True,
     number_reader: BallNumberReader | bool | None = True,
+    skill: str = "pro",
+    table_model: TableModel | bool | None = True,
 ) -> Suggestion:
     """The best shot for a photo of a pool table.
 
@@ -140,7 +162,8 @@ def suggest(
         group: ``solids``, ``stripes`` or ``auto`` (the group with the better shot).
         detector: the detector (default: the bundled ONNX model).
         planner: the shot planner (default: :func:`pix2pockets.pipeline.planning.default_planner`).
-        spec: the table (default 9-foot).
+        spec: the table; ``None`` (default) measures its size from the balls when the table is found without
+            diamonds (``table.size_source`` in the JSON says how it was found), else 9-foot.
         locate_method: ball location method (``sphere``, ``contact`` or ``linear``).
         rng: randomness for the planner (a fixed seed when ``None``).
         measure_rail_height: measure the diamond-plane height above the cloth from the cushion noses
@@ -148,12 +171,16 @@ def suggest(
         number_reader: reads each ball's number (``True``: the numbers the detector read, like the bundled ONNX
             detector, else the bundled reader when present; a reader: that reader; ``False`` or ``None``: balls are
             named by class only).
+        skill: the player's skill level the default planner plans for and measures the chance with (``pro``,
+            ``club``, ``beginner`` or a noise ``FILE.json``; ignored when ``planner`` is given).
+        table_model: finds the playing surface, its corners and side pockets (``True``: the bundled model when
+            present; ``False`` or ``None``: the table is fitted to the diamonds and the cloth's colour only).
 
     Raises:
         ValueError: unreadable image, no table found, too few table points, no cue ball, no balls of the
             group (with a one-line reason).
     """
-    spec = spec or TableSpec()
+    given_spec = spec is not None
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
     rgb = load_image(image)
@@ -167,12 +194,14 @@ def suggest(
 
     t = time.perf_counter()
     det = clean_detections(raw)
-    fit = fit_table(det, (w, h), spec, pixel_aspect=det.pixel_aspect)  # the pixel aspect the detector measured
+    surface = read_surface(rgb, det, table_model)
+    fit = estimate_table(rgb, det, (w, h), spec, pixel_aspect=det.pixel_aspect, surface=surface)
+    spec = fit.spec
     timings["fit"] = time.perf_counter() - t
 
     t = time.perf_counter()
     measured = False
-    if measure_rail_height:  # the cloth lies an unknown height below the diamonds: measure it
+    if measure_rail_height and fit.source.startswith("diamonds"):  # the cloth lies below the diamonds: how far
         fit, est = refine_fit_height(rgb, fit, det[det.is_ball].boxes)
         measured = est.measured
     timings["rail_height"] = time.perf_counter() - t
@@ -190,7 +219,7 @@ def suggest(
     timings["numbers"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    planner = planner or default_planner()
+    planner = planner or default_planner(skill=skill)
     advice = plan_shot(layout, group, planner, rng)
     timings["plan"] = time.perf_counter() - t
 
@@ -211,5 +240,16 @@ def suggest(
     )
     timings["total"] = time.perf_counter() - t0
     return Suggestion(
-        (w, h), fit.corners_px, fit.homography, balls, advice, layout, fit.camera, timings, fit.diamond_z, measured
+        (w, h),
+        fit.corners_px,
+        fit.homography,
+        balls,
+        advice,
+        layout,
+        fit.camera,
+        timings,
+        fit.diamond_z if fit.source.startswith("diamonds") else None,
+        measured,
+        fit.source,
+        "given" if given_spec else fit.size_source,
     )

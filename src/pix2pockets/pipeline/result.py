@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
+from pix2pockets.planner.chance import Chance, format_chance
 from pix2pockets.state.layout import TableLayout
 from pix2pockets.state.shot import Shot
 
@@ -92,13 +93,18 @@ class ShotAdvice:
         kind: ``direct``, ``bank`` or ``kick`` (``None`` for a safety).
         cue_angle: stroke direction [rad], counter-clockwise from +x.
         speed: cue-ball speed [m/s].
-        success_probability: the planner's estimate in [0, 1] (``None`` when it gives none).
+        success_probability: the chance in [0, 1]: the measured fraction ``chance`` when there is one, else the
+            planner's estimate (``None`` when it gives none).
         group: the group the shot was planned for.
         cue_path: the cue ball's planned path [m], (k, 2): cue ball, (cushion,) ghost ball.
         object_path: the object ball's planned path [m], (k, 2): ball, (cushion,) pocket.
         ghost: ghost-ball centre [m] (``None`` for a safety).
         safety: no pocketable shot was found; this is the planner's safe play.
         stroke: the full stroke (with tip offsets), for replaying in a simulator.
+        chance: how ``success_probability`` was measured (successes, samples, noise, position error), or
+            ``None`` for a planner's own estimate.
+        chance_exact_positions: the same measurement with the balls exactly where they were located (the
+            stroke's own risk, without the photo's position error), or ``None``.
     """
 
     target_ball: int | None
@@ -113,6 +119,8 @@ class ShotAdvice:
     ghost: np.ndarray | None
     safety: bool = False
     stroke: Shot | None = None
+    chance: Chance | None = None
+    chance_exact_positions: Chance | None = None
 
     @property
     def power_level(self) -> int:
@@ -128,6 +136,11 @@ class ShotAdvice:
             "speed_mps": round(self.speed, 3),
             "power_level": self.power_level,
             "success_probability": None if p is None else round(p, 4),
+            "success_text": self.chance_text,
+            "success_chance": None if self.chance is None else self.chance.to_dict(),
+            "success_chance_exact_positions": None
+            if self.chance_exact_positions is None
+            else self.chance_exact_positions.to_dict(),
             "group": self.group,
             "safety": self.safety,
             "tip_offset": None
@@ -135,9 +148,18 @@ class ShotAdvice:
             else {"side": round(self.stroke.side, 3), "height": round(self.stroke.height, 3)},
         }
 
+    @property
+    def chance_text(self) -> str | None:
+        """The chance for people (``">99%"``, ``"73%"``, ``"<1%"``; never 100% or 0%), ``None`` without one."""
+        if self.chance is not None:
+            return self.chance.text
+        return None if self.success_probability is None else format_chance(self.success_probability)
+
     def describe(self, balls: tuple[LocatedBall, ...]) -> str:
-        """One line for people: ball, pocket, kind, power, success chance."""
-        chance = "" if self.success_probability is None else f", {self.success_probability:.0%} chance"
+        """One line for people: ball, pocket, kind, power, success chance (with its sample size when measured)."""
+        chance = "" if self.chance_text is None else f", {self.chance_text} chance"
+        if self.chance is not None:
+            chance += f" (of {self.chance.samples} sampled strokes, {self.chance.noise})"
         if self.safety or self.target_ball is None:
             return f"No good pot for {self.group}: safe shot at power {self.power_level}/30{chance}"
         ball = balls[self.target_ball]
@@ -167,6 +189,10 @@ class Suggestion:
         timings: seconds per stage.
         diamond_height_m: height of the diamond plane (rail cap) above the cloth used [m].
         diamond_height_measured: whether that height was measured from the photo (else assumed).
+        table_source: what the table was fitted to: ``surface`` (the table model's playing surface), ``diamonds``,
+            ``diamonds+surface`` (both, agreeing), ``cloth`` or ``diamonds+cloth``.
+        size_source: where the table's size came from: ``given`` (the caller's table), ``balls`` (the balls'
+            apparent size), ``diamonds`` or ``default`` (9-foot, nothing measured it).
     """
 
     image_size: tuple[int, int]
@@ -179,6 +205,8 @@ class Suggestion:
     timings: dict = field(default_factory=dict)
     diamond_height_m: float | None = None
     diamond_height_measured: bool = False
+    table_source: str = "diamonds"
+    size_source: str = "given"
 
     @property
     def spec(self) -> TableSpec:
@@ -202,6 +230,13 @@ class Suggestion:
             "image": {"width": int(self.image_size[0]), "height": int(self.image_size[1])},
             "table": {
                 "spec": self.spec.name,
+                "size": {
+                    "name": self.spec.name,
+                    "length_m": round(self.spec.length, 4),
+                    "width_m": round(self.spec.width, 4),
+                },
+                "size_source": self.size_source,
+                "source": self.table_source,
                 "corners_px": [
                     [round(float(v), 2) for v in c] if np.all(np.isfinite(c)) else None for c in self.corners_px
                 ],

@@ -1,7 +1,14 @@
-"""One table estimate from every cue a photo offers: the diamonds, the cloth outline and the balls on it.
+"""One table estimate from every cue a photo offers: the playing surface, the diamonds, the cloth and the balls.
 
-:func:`estimate_table` fits the table from the diamonds (:func:`~pix2pockets.vision.table.fit.fit_table`, the
-rail sights as today) and from the cloth (:func:`~pix2pockets.vision.table.cloth.find_cloth` and
+The table model's playing surface (:mod:`pix2pockets.vision.table.keypoints`, outlined by
+:func:`~pix2pockets.vision.table.surface.surface_outline`: corners read to about a pixel, side pockets marking the
+long rails) gives a fit of its own, at the cushion noses on the cloth; where the diamond fit agrees with it (its
+corners within :data:`CORNER_TOLERANCE`), the diamond fit is kept (``"diamonds+surface"``), else the surface's
+(``"surface"``).
+
+Without a surface, :func:`estimate_table` fits the table from the diamonds
+(:func:`~pix2pockets.vision.table.fit.fit_table`, the rail sights) and from the cloth
+(:func:`~pix2pockets.vision.table.cloth.find_cloth` and
 :func:`~pix2pockets.vision.table.outline_fit.fit_outline`, for the many tables with no sights or with sights too
 small to see). Where both give a table, the one that explains more of the cues wins (:func:`explained_cues`): the
 diamonds it reprojects within a tolerance, the cloth outline corners it lands on, and the balls it puts on the
@@ -29,8 +36,9 @@ from pix2pockets.vision.table.fit import TableFit, diamond_height, fit_table
 from pix2pockets.vision.table.outline_camera import CUSHION_WIDTH, outline_rectangle
 from pix2pockets.vision.table.outline_fit import fit_outline
 from pix2pockets.vision.table.pixel_aspect import pixel_aspect_of_balls, pixel_aspect_of_photo, snapped_aspect
+from pix2pockets.vision.table.surface import SurfaceOutline
 
-CUES = ("diamonds", "cloth", "all")
+CUES = ("diamonds", "cloth", "surface", "all")
 """What :func:`estimate_table` may fit the table to."""
 MIN_BALL_SCORE = 0.3  # balls at least this sure seed the cloth colour and measure the table
 CORNER_TOLERANCE = 0.03
@@ -41,6 +49,13 @@ MIN_BALLS = 2
 """A cloth fit with fewer balls on its table must rest on a clear outline: ..."""
 MIN_CONFIDENCE_WITHOUT_BALLS = 0.3
 """... all four cushions seen and a region this table-like (walls, floors and furniture make rectangles too)."""
+SIDE_POCKET_DARKNESS = 40.0
+"""A side-pocket peak of the table model weighs as a side this much darker mid-way (Lab lightness) in the outline
+fit's choice of the long rails."""
+SURFACE_MAX_RECTANGLE_COST = 150.0
+"""Largest rectangle error of an accepted surface outline: its corners are the model's, read more surely than the
+colour region's edges (on the 80 real phone photos 48 fits at 150, 43 at the colour outline's 40, all right by
+eye but the ones listed in ``docs/benchmarks-vision.md``)."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -95,6 +110,7 @@ def estimate_table(
     spec: TableSpec | None = None,
     cues: str = "all",
     pixel_aspect: float | None = None,
+    surface: SurfaceOutline | None = None,
 ) -> TableFit:
     """Fit the table to every cue in a photo: diamonds, cloth outline, balls.
 
@@ -104,9 +120,11 @@ def estimate_table(
         image_size: (width, height) [px] (default: the photo's).
         spec: the table; ``None`` for a cloth fit measures its size from the balls (``size_source="balls"``) and
             matches diamonds to a 9-foot table.
-        cues: ``"diamonds"``, ``"cloth"`` or ``"all"``.
+        cues: ``"diamonds"``, ``"cloth"``, ``"surface"`` or ``"all"``.
         pixel_aspect: width over height of one pixel (default: read from the balls); 1 lets the cloth outline try
             the usual export stretches of a square photo too.
+        surface: the table model's playing surface (:func:`~pix2pockets.vision.table.surface.surface_outline`),
+            when there is one.
 
     Returns:
         The :class:`TableFit` explaining the most cues; ``source`` says which it came from.
@@ -142,6 +160,41 @@ def estimate_table(
             fits.append(fit if spec is None else replace(fit, size_source="given"))
         except TableFitError as err:
             reasons.append(f"diamonds: {_reason(err)}")
+    surface_fit: TableFit | None = None
+    if cues in ("surface", "all") and surface is not None:
+        try:
+            surface_fit = replace(
+                fit_outline(
+                    surface.corners_px,
+                    image_size,
+                    spec,
+                    seen=surface.seen,
+                    ball_boxes=sure.boxes,
+                    diamonds=diamonds,
+                    pocket_darkness=SIDE_POCKET_DARKNESS * surface.side_pocket,
+                    cloth_mask=surface.mask,
+                    pixel_aspect=outline_aspect,
+                    offset=0.0,
+                    plane_z=0.0,
+                    max_rectangle_cost=SURFACE_MAX_RECTANGLE_COST,
+                ),
+                source="surface",
+            )
+        except TableFitError as err:
+            reasons.append(f"surface: {_reason(err)}")
+    if surface_fit is not None:
+        for fit in fits:  # a diamond fit on the surface's corners is the sharper of the two
+            if _corner_gap(fit, surface_fit) <= CORNER_TOLERANCE * math.hypot(*image_size):
+                return replace(fit, source="diamonds+surface")
+            # they disagree: the one explaining more diamonds and balls (ties to the diamonds)
+            centres = sure.centres
+            if explained_cues(fit, diamonds, None, centres).total >= explained_cues(
+                surface_fit, diamonds, None, centres
+            ).total:
+                return fit
+        return surface_fit
+    if cues == "surface":
+        raise TableFitError("no table found: " + "; ".join(reasons or ["surface: no playing surface"]))
     cloth: ClothOutline | None = None
     if cues in ("cloth", "all") and rgb is not None:
         try:
@@ -181,6 +234,13 @@ def estimate_table(
     if scores[0].corners >= 3:  # the diamonds' table lies on the cloth outline too
         return replace(diamond_fit, source="diamonds+cloth")
     return diamond_fit if scores[0].total >= scores[1].total else cloth_fit
+
+
+def _corner_gap(a: TableFit, b: TableFit) -> float:
+    """Largest distance [px] between the playing-surface corners of two fits (either way round the table)."""
+    ca, cb = a.corners_px, b.corners_px
+    gaps = [np.max(np.linalg.norm(ca - np.roll(cb, k, axis=0), axis=1)) for k in (0, 2)]
+    return float(np.nanmin(gaps)) if np.all(np.isfinite(gaps)) else math.inf
 
 
 def _reason(err: TableFitError) -> str:

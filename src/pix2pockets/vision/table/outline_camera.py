@@ -85,10 +85,16 @@ def head_rail_convention(camera: PinholeCamera, spec: TableSpec) -> PinholeCamer
 
 
 def quick_camera(
-    quad: np.ndarray, size: tuple[float, float], spec: TableSpec, offset: float, focal: float | None = None
+    quad: np.ndarray,
+    size: tuple[float, float],
+    spec: TableSpec,
+    offset: float,
+    focal: float | None = None,
+    plane_z: float | None = None,
 ) -> tuple[PinholeCamera, float] | None:
     """Camera (square pixels) seeing the outline of ``spec`` at ``quad`` (4, 2) [px, table corner order] and its
-    rectangle cost, from the homography alone; None for a degenerate quadrilateral."""
+    rectangle cost, from the homography alone; None for a degenerate quadrilateral. The outline lies at
+    ``plane_z`` [m] above the cloth (default: the cushion-nose height)."""
     world = outline_rectangle(spec, offset)
     try:
         H = fit_homography(world, quad)
@@ -97,7 +103,8 @@ def quick_camera(
     cost, f = rectangle_cost(H, size, max(size))
     if focal is not None:
         f = focal
-    R, t = pose_from_homography(H, intrinsics(f, size), spec.cushion_height, spec.size / 2)
+    z = spec.cushion_height if plane_z is None else plane_z
+    R, t = pose_from_homography(H, intrinsics(f, size), z, spec.size / 2)
     return PinholeCamera(intrinsics(f, size), R, t, (round(size[0]), round(size[1]))), cost
 
 
@@ -131,6 +138,7 @@ def camera_from_outline(
     pixel_aspect: float = 1.0,
     offset: float = CUSHION_WIDTH,
     focal_px: float | None = None,
+    plane_z: float | None = None,
 ) -> tuple[PinholeCamera, float, float]:
     """The camera that sees the cloth outline of ``spec`` at ``corners_px`` (4, 2) [px], corner ``k`` being
     ``outline_rectangle(spec)[k]``, refined by least squares on the corners. Returns ``(camera, rectangle cost,
@@ -139,6 +147,7 @@ def camera_from_outline(
     Args:
         focal_px: focal length [px of image height] to start from and keep close to (default: the one the corners
             imply, :func:`rectangle_cost`).
+        plane_z: height of the outline above the cloth [m] (default: the cushion-nose height).
 
     Raises:
         TableFitError: the corners give no camera.
@@ -146,11 +155,12 @@ def camera_from_outline(
     aspect = float(pixel_aspect)
     corners = np.asarray(corners_px, dtype=float) / np.array([aspect, 1.0])
     size = (image_size[0] / aspect, image_size[1])
-    quick = quick_camera(corners, size, spec, offset, focal_px)
+    quick = quick_camera(corners, size, spec, offset, focal_px, plane_z)
     if quick is None:
         raise TableFitError("no table found: the cloth outline's corners are degenerate")
     camera, cost = quick
-    world3 = np.column_stack([outline_rectangle(spec, offset), np.full(4, spec.cushion_height)])
+    z = spec.cushion_height if plane_z is None else plane_z
+    world3 = np.column_stack([outline_rectangle(spec, offset), np.full(4, z)])
     camera = refined(camera, world3, corners, focal_px or camera.K[1, 1])
     err = np.linalg.norm(camera.project(world3) - corners, axis=1)
     rms = float(np.sqrt(np.mean(err**2))) if np.all(np.isfinite(err)) else math.inf

@@ -183,6 +183,7 @@ def _hypotheses(
     aspects: list[tuple[float, float]],
     ev_of: dict[float, _Evidence],
     offset: float,
+    plane_z: float | None = None,
 ) -> list[_Hypothesis]:
     out = []
     tol = 0.01 * math.hypot(*image_size)
@@ -195,7 +196,7 @@ def _hypotheses(
         if seen.all():
             for shift in (0, 1):
                 quad = np.roll(q, -shift, axis=0)  # quad[k] is the table's corner k
-                quick = quick_camera(quad, size, spec, offset)
+                quick = quick_camera(quad, size, spec, offset, plane_z=plane_z)
                 if quick is None:
                     continue
                 camera, rect = quick
@@ -216,7 +217,7 @@ def _hypotheses(
                     continue
                 # made[0], made[1] are the cloth corners mid, mid + 1; the table's corner 0 starts a long side
                 quad = made if mid_long else np.roll(made, 1, axis=0)
-                quick = quick_camera(quad, size, spec, offset, focal=f)
+                quick = quick_camera(quad, size, spec, offset, focal=f, plane_z=plane_z)
                 if quick is None:
                     continue
                 camera, rect = quick
@@ -260,6 +261,8 @@ def fit_outline(
     cloth_mask: np.ndarray | None = None,
     pixel_aspect: float | None = None,
     offset: float = CUSHION_WIDTH,
+    plane_z: float | None = None,
+    max_rectangle_cost: float | None = None,
 ) -> TableFit:
     """Fit the table from its cloth outline.
 
@@ -277,6 +280,10 @@ def fit_outline(
         cloth_mask: the cloth region (H, W) bool: it must fill the table's outline and lie inside it.
         pixel_aspect: width over height of one pixel; ``None`` tries the usual export stretches on a square photo.
         offset: cushion width: how far the outline lies outside the playing surface [m].
+        plane_z: height of the outline above the cloth [m] (default: the cushion-nose height; 0 for the playing
+            surface's own corners on the cloth).
+        max_rectangle_cost: largest rectangle error accepted (default :data:`MAX_RECTANGLE_COST`); outlines whose
+            corners are read more surely (the table model's) may allow more.
 
     Returns:
         A :class:`TableFit` with ``source="cloth"``, no matched diamonds, ``rms_px`` the corners' error.
@@ -301,20 +308,20 @@ def fit_outline(
     base = spec or TableSpec()
     aspects = _aspect_hypotheses(pixel_aspect, image_size, boxes)
     ev_of = {a: _evidence(a, image_size, boxes, dots, dark, cloth_mask) for a, _ in aspects}
-    hyps = _hypotheses(corners, seen, image_size, base, spec is not None, aspects, ev_of, offset)
+    hyps = _hypotheses(corners, seen, image_size, base, spec is not None, aspects, ev_of, offset, plane_z)
     hyps = sorted((h for h in hyps if np.isfinite(h.cost)), key=lambda h: h.cost)
     if not hyps:
         raise TableFitError("no table found: the cloth outline gives no camera")
     error: TableFitError | None = None
     for best in hyps[:MAX_TRIED]:
-        if best.rect_cost > MAX_RECTANGLE_COST:
+        if best.rect_cost > (MAX_RECTANGLE_COST if max_rectangle_cost is None else max_rectangle_cost):
             error = error or TableFitError(
                 "no table found: the cloth outline is not a table seen by a camera "
                 f"(rectangle error {best.rect_cost:.0f})"
             )
             continue
         try:
-            return _final_fit(best, image_size, spec, base, boxes, len(dots), offset)
+            return _final_fit(best, image_size, spec, base, boxes, len(dots), offset, plane_z)
         except TableFitError as err:
             error = error or err
     raise error or TableFitError("no table found")
@@ -328,12 +335,13 @@ def _final_fit(
     boxes: np.ndarray,
     n_diamonds: int,
     offset: float,
+    plane_z: float | None = None,
 ) -> TableFit:
     """The fit of one hypothesis: the camera refined on its corners, the table's size from the balls."""
     aspect = best.aspect
     quad = best.quad * np.array([aspect, 1.0])
     focal = best.camera.K[1, 1] if best.three_lines else None
-    camera, _, rms = camera_from_outline(quad, image_size, base, aspect, offset, focal)
+    camera, _, rms = camera_from_outline(quad, image_size, base, aspect, offset, focal, plane_z)
     final, size_source = base, "given"
     if spec is None:
         size_source = "default"
@@ -342,7 +350,7 @@ def _final_fit(
             final = spec_of_length(k * (base.length + 2 * offset) - 2 * offset, base)
             size_source = "balls"
             if final is not base:
-                camera, _, rms = camera_from_outline(quad, image_size, final, aspect, offset, focal)
+                camera, _, rms = camera_from_outline(quad, image_size, final, aspect, offset, focal, plane_z)
     _check_camera(camera, final, image_size)
     on_table = len(boxes) - _balls_off(camera, (boxes[:, :2] + boxes[:, 2:]) / 2, final) if len(boxes) else 0
     if camera_tilt(camera) < math.radians(TOP_VIEW_DEG) and on_table < TOP_VIEW_BALLS:
