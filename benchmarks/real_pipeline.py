@@ -7,7 +7,7 @@ shot and the reasons of the others (the first clause of the error). There is no 
 fitted table is drawn, not scored (``--draw DIR``).
 
 Usage:
-    PYTHONPATH=src python benchmarks/real_pipeline.py [--data DIR] [--labels FILE] [--table 9ft|8ft|7ft]
+    PYTHONPATH=src python benchmarks/real_pipeline.py [--data DIR] [--labels FILE] [--table auto|9ft|8ft|7ft|6ft]
         [--draw DIR] [--json OUT.json]
 """
 
@@ -40,12 +40,12 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--data", type=Path, default=DEFAULT_DATA, help="the real-snooker-vision folder")
     ap.add_argument("--labels", type=Path, default=DEFAULT_LABELS, help="photo list (the ball classes JSON)")
-    ap.add_argument("--table", default="9ft", choices=["9ft", "8ft", "7ft"])
+    ap.add_argument("--table", default="auto", choices=["auto", "9ft", "8ft", "7ft", "6ft"])
     ap.add_argument("--draw", type=Path, default=None, help="folder for the drawn results of the photos that fit")
     ap.add_argument("--json", default=None)
     args = ap.parse_args()
 
-    spec = table_preset(args.table)
+    spec = None if args.table == "auto" else table_preset(args.table)
     photos = [entry["image"] for entry in json.loads(args.labels.read_text())["images"]]
     if args.draw:
         args.draw.mkdir(parents=True, exist_ok=True)

@@ -2,7 +2,8 @@
 
 The snooker-vision photos carry no diamonds, but each has a box around the whole table (class 1). A fitted table
 (the bundled detector's diamonds and balls, the pipeline's post-processing, ``estimate_table`` over the cues chosen
-with ``--cues``: the diamonds alone, the cloth outline alone, or both) is drawn into the photo as the outer edge of
+with ``--cues``: the diamonds alone, the cloth outline alone, the table model's surface alone, or all) is drawn into
+the photo as the outer edge of
 its rails (yellow; the playing surface magenta, the head rail red); the bounding box of that outline's part in
 front of the camera, cut to the photo, should cover the labelled box. A fit *agrees* when their IoU is at least
 ``--min-iou``. A labelled box may be cut by the frame or, in a mosaic, drawn round pasted content,
@@ -12,7 +13,7 @@ Photos: ``benchmarks/data/real_phone_photos.json`` (one copy of each of the 80 p
 
 Usage:
     PYTHONPATH=src python benchmarks/real_table_fit.py [--data DIR] [--photos FILE] [--min-iou 0.6] [--draw DIR]
-        [--json OUT.json] [--cues diamonds|cloth|all]
+        [--json OUT.json] [--cues diamonds|cloth|surface|all]
 """
 
 from __future__ import annotations
@@ -23,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pix2pockets.pipeline.photo import clean_detections
+from pix2pockets.pipeline.photo import clean_detections, read_surface
 from pix2pockets.vision.detect.onnx_detector import OnnxDetector
 from pix2pockets.vision.detect.postprocess import box_iou
 from pix2pockets.vision.image_io import read_image_rgb
@@ -72,7 +73,9 @@ def main() -> None:
     ap.add_argument("--min-iou", type=float, default=0.6, help="IoU at which a fit agrees with the table box")
     ap.add_argument("--draw", type=Path, default=None, help="folder for the photos with their fitted outline")
     ap.add_argument("--json", default=None)
-    ap.add_argument("--cues", choices=CUES, default="all", help="fit the diamonds, the cloth outline or both")
+    ap.add_argument(
+        "--cues", choices=CUES, default="all", help="fit the diamonds, the cloth, the table model's surface or all"
+    )
     args = ap.parse_args()
 
     detector = OnnxDetector.from_default()
@@ -85,7 +88,9 @@ def main() -> None:
         size = (image.shape[1], image.shape[0])
         boxes, classes = read_yolo_labels(path.parent.parent / "labels" / (path.stem + ".txt"), size)
         try:
-            fit = estimate_table(image, clean_detections(detector.detect(image)), size, cues=args.cues)
+            det = clean_detections(detector.detect(image))
+            surface = read_surface(image, det, True) if args.cues in ("surface", "all") else None
+            fit = estimate_table(image, det, size, cues=args.cues, pixel_aspect=det.pixel_aspect, surface=surface)
         except TableFitError as err:
             rows.append({"image": name, "fit": False, "error": str(err)})
             continue

@@ -10,6 +10,7 @@ from pix2pockets.cli.detector_options import add_model_options, chosen_detector
 from pix2pockets.cli.warmup_cmd import AfterCompile, compile_in_background
 from pix2pockets.data.examples import example_photo_path
 from pix2pockets.files import check_output, write_atomic
+from pix2pockets.geometry.table import TABLE_PRESETS
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".webp")
 
@@ -36,8 +37,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument(
         "--agent", help="plan with a trained RL agent file (pix2pockets rl train) instead of the search planner"
     )
+    parser.add_argument(
+        "--skill",
+        default="pro",
+        help="your skill level: pro (FastFiz noise), club, beginner or a noise FILE.json; the shot is chosen and "
+        "its chance measured for it (default pro)",
+    )
     parser.add_argument("--method", choices=["sphere", "contact", "linear"], default="sphere", help="ball location")
-    parser.add_argument("--table", choices=["9ft", "8ft", "7ft"], default="9ft", help="table size (default 9ft)")
+    parser.add_argument(
+        "--table",
+        choices=["auto", *TABLE_PRESETS],
+        default="auto",
+        help="table size (default auto: from the balls' size when the table is found without diamonds, else 9ft)",
+    )
     parser.add_argument("--force", action="store_true", help="overwrite existing output files")
     parser.set_defaults(func=run)
 
@@ -81,10 +93,13 @@ def run(args: argparse.Namespace) -> int:
     planner = None  # the pipeline's default planner
     if args.agent:
         planner = load_agent_planner(args.agent)
-    elif args.time_budget is not None:
-        planner = default_planner(args.time_budget)
+    else:
+        from pix2pockets.planner.noise import noise_model
+
+        noise_model(args.skill)  # a bad level or file: one line, before the photo is read
+        planner = default_planner(args.time_budget, skill=args.skill)
     if compiling is not None:
-        planner = AfterCompile(planner or default_planner(), compiling)
+        planner = AfterCompile(planner, compiling)
     rgb = load_image(image)
     from pix2pockets.geometry import table_preset
 
@@ -93,7 +108,7 @@ def run(args: argparse.Namespace) -> int:
         group=args.group,
         detector=detector,
         planner=planner,
-        spec=table_preset(args.table),
+        spec=None if args.table == "auto" else table_preset(args.table),
         locate_method=args.method,
         number_reader=(args.numbers or "").lower() != "none",
     )

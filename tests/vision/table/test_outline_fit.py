@@ -86,8 +86,8 @@ def test_size_without_balls_is_the_default():
 
 def test_a_measured_size_far_from_the_presets():
     assert spec_of_length(2.0).name == "7ft"
-    odd = spec_of_length(3.6)
-    assert odd.length == 3.6 and odd.width == 1.8 and "measured" in odd.name
+    assert spec_of_length(2.85).name == "9ft"  # a table reads no larger than the largest preset's reach
+    assert spec_of_length(9.0).name == "9ft" and spec_of_length(0.5).name == "6ft"  # misreads held at the range
 
 
 def test_three_lines_and_a_focal_length_complete_the_rectangle():

@@ -19,6 +19,8 @@ from pix2pockets.geometry.table import INCH, TABLE_PRESETS, TableSpec
 SNAP_TOLERANCE = 0.18
 """A table measured from the balls within this log-ratio of a preset's length is taken as that preset (real ball
 boxes are loose or tight by 10-15 %)."""
+SIZE_MARGIN = 1.15
+"""Tables are made from 6 to 9 ft: a measured length this factor beyond that range is held at it."""
 MIN_BALLS_FOR_SIZE = 2
 """Balls on the table needed to measure its size."""
 
@@ -62,7 +64,11 @@ def size_from_balls(
 
 def spec_of_length(length: float, base: TableSpec | None = None) -> TableSpec:
     """The table of playing-surface ``length`` [m]: the nearest preset within :data:`SNAP_TOLERANCE`, else ``base``
-    (default 9-foot) resized to that length with the usual 2:1 proportions, named by its nominal size."""
+    (default 9-foot) resized to that length with the usual 2:1 proportions, named by its nominal size. A length
+    beyond the presets' range by more than :data:`SIZE_MARGIN` is a misread (loose ball boxes, a wrong outline) and
+    is held at that margin first."""
+    lengths = [p.length for p in TABLE_PRESETS.values()]
+    length = float(np.clip(length, min(lengths) / SIZE_MARGIN, max(lengths) * SIZE_MARGIN))
     nearest = min(TABLE_PRESETS.values(), key=lambda p: abs(math.log(p.length / length)))
     if abs(math.log(nearest.length / length)) <= SNAP_TOLERANCE:
         return nearest
