@@ -5,15 +5,26 @@ Example::
     pix2pockets evaluate planner --planner search --balls 16 --layouts 1000 --seed 0 --noise fastfiz \\
         --json search-fastfiz.json
     pix2pockets evaluate planner --physics paper --planner oracle --layouts 1000 --json paper-oracle.json
+    pix2pockets evaluate planner --planner search --layouts 1000 --skill club --json search-club.json
+    pix2pockets evaluate planner --planner search --layouts 100000 --ray auto --json search-100k.json
 """
 
 from __future__ import annotations
 
 import argparse
+from dataclasses import dataclass
 from pathlib import Path
 
 from pix2pockets.files import check_output, write_json
-from pix2pockets.planner.evaluation import BALL_SETS, evaluate_planner, ours_protocol, paper_protocol
+from pix2pockets.planner.evaluation import (
+    BALL_SETS,
+    EvaluationSummary,
+    Protocol,
+    evaluate_planner,
+    merge_summaries,
+    ours_protocol,
+    paper_protocol,
+)
 from pix2pockets.planner.noise import noise_model
 from pix2pockets.planner.registry import PLANNER_NAMES, make_planner
 
@@ -45,7 +56,16 @@ def register(sub: argparse._SubParsersAction) -> None:
         "drawn after np.random.seed(seed + i))",
     )
     parser.add_argument(
-        "--noise", default="none", help="execution noise: none, fastfiz, fastfiz5x, aim:<deg>, gauss:<deg>:<m/s>"
+        "--noise",
+        default="none",
+        help="execution noise: none, fastfiz, fastfiz5x, a skill level (pro, club, beginner), aim:<deg>, "
+        "gauss:<deg>:<m/s> or FILE.json (a custom skill level)",
+    )
+    parser.add_argument(
+        "--skill",
+        default=None,
+        help="the player's skill level (pro, club, beginner or FILE.json): the same as --noise LEVEL, so the "
+        "search planner plans for the noise it is played with",
     )
     parser.add_argument(
         "--planning-noise",
@@ -75,6 +95,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--json", metavar="OUT.json", help="write the results as JSON")
     parser.add_argument("--force", action="store_true", help="overwrite an existing --json file")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    parser.add_argument(
+        "--ray",
+        nargs="?",
+        const="local",
+        default=None,
+        metavar="ADDRESS",
+        help="split the layouts over Ray workers (the ray extra): alone, a Ray instance on this machine; with an "
+        "address (auto, ray://HOST:10001), that cluster. Same numbers as one process",
+    )
+    parser.add_argument("--workers", type=int, default=None, help="CPUs of the local Ray instance (default: all)")
     parser.set_defaults(func=run)
 
 
@@ -87,13 +117,80 @@ PAPER_PLANNING_NOISE = "gauss:0.125:0.01"
 noise and 1% of the paper's top speed (FastFiz's 0.075 m/s is 8% of it)."""
 
 
-def run(args: argparse.Namespace) -> int:
+@dataclass(frozen=True, slots=True)
+class PlannerJob:
+    """Everything one evaluation's layouts share, as plain values (sent to Ray workers).
+
+    Attributes:
+        planner: planner name.
+        physics: simulator backend.
+        balls: environment (1, 2 or 16).
+        seed: seed of the layouts and noise.
+        noise: execution noise spec.
+        planning_noise: the noise the search planner plans for.
+        protocol: ``ours`` or ``paper``.
+        defects: the paper protocol's defects switched on.
+        time_budget: search decision limit [s].
+        oracle_speed: the Oracle's max-power speed [m/s].
+    """
+
+    planner: str
+    physics: str
+    balls: int
+    seed: int
+    noise: str = "none"
+    planning_noise: str = "fastfiz"
+    protocol: str = "ours"
+    defects: tuple[str, ...] = ()
+    time_budget: float | None = None
+    oracle_speed: float | None = None
+
+    def make_protocol(self) -> Protocol:
+        """The :class:`Protocol` this job names."""
+        if self.protocol == "paper":
+            return paper_protocol("spawn-in-pocket" in self.defects, "early-eight-wins" in self.defects)
+        from pix2pockets.geometry.raster import paper_table
+
+        return ours_protocol(paper_table() if self.physics == "paper" else None)
+
+
+def evaluate_layouts(layouts: range, job: PlannerJob, progress: bool = False) -> EvaluationSummary:
+    """Evaluate layouts ``layouts`` (consecutive indices) of ``job`` in this process."""
     from pix2pockets.physics import make_simulator
 
+    sim = make_simulator(job.physics)
+    planner = make_planner(
+        job.planner, physics=job.physics, noise=job.planning_noise, time_budget=job.time_budget,
+        oracle_speed=job.oracle_speed,
+    )  # fmt: skip
+    return evaluate_planner(
+        planner, sim.simulate, job.balls, len(layouts), job.seed, noise_model(job.noise), job.physics, progress,
+        job.make_protocol(), first=layouts.start,
+    )  # fmt: skip
+
+
+PIECES_PER_CPU = 4
+"""Layout ranges per Ray CPU: turns differ in length, so smaller pieces keep every worker busy to the end."""
+
+
+def evaluate_on_ray(job: PlannerJob, layouts: int, address: str, workers: int | None = None) -> EvaluationSummary:
+    """Evaluate layouts ``0 .. layouts - 1`` split over Ray workers; the same counts as one process."""
+    from pix2pockets.scale import RayPool, split_range
+
+    with RayPool(address, workers) as pool:
+        pieces = split_range(0, layouts, pool.cpus * PIECES_PER_CPU)
+        return merge_summaries(list(pool.map(evaluate_layouts, pieces, job)))
+
+
+def run(args: argparse.Namespace) -> int:
     if args.layouts < 1:
         raise ValueError(f"--layouts must be >= 1, got {args.layouts}")
     if args.time_budget is not None and not args.time_budget > 0:
         raise ValueError(f"--time-budget must be positive, got {args.time_budget}")
+    if args.skill is not None:
+        if args.noise != "none":
+            raise ValueError("give either --skill or --noise, not both")
+        args.noise = args.skill
     noise = noise_model(args.noise)
     planning = args.planning_noise
     if planning == "auto":
@@ -108,24 +205,21 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"unknown --paper-defects {sorted(unknown)}; known: {', '.join(PAPER_DEFECTS)}")
     if defects and protocol_name != "paper":
         raise ValueError("--paper-defects applies to the paper protocol")
-    if protocol_name == "paper":
-        protocol = paper_protocol("spawn-in-pocket" in defects, "early-eight-wins" in defects)
-        seed = 12345 if args.seed is None else args.seed
-    else:
-        from pix2pockets.geometry.raster import paper_table
-
-        protocol = ours_protocol(paper_table() if args.physics == "paper" else None)
-        seed = 0 if args.seed is None else args.seed
+    default_seed = 12345 if protocol_name == "paper" else 0
+    seed = default_seed if args.seed is None else args.seed
     check_output(args.json, args.force)
     out = Path(args.json) if args.json else None
-    sim = make_simulator(args.physics)
-    planner = make_planner(
-        args.planner, physics=args.physics, noise=planning, time_budget=args.time_budget,
+    job = PlannerJob(
+        planner=args.planner, physics=args.physics, balls=args.balls, seed=seed, noise=args.noise,
+        planning_noise=planning, protocol=protocol_name, defects=tuple(sorted(defects)), time_budget=args.time_budget,
         oracle_speed=args.oracle_speed,
     )  # fmt: skip
-    summary = evaluate_planner(
-        planner, sim.simulate, args.balls, args.layouts, seed, noise, args.physics, not args.no_progress, protocol
-    )
+    if args.ray is None:
+        if args.workers is not None:
+            raise ValueError("--workers applies with --ray")
+        summary = evaluate_layouts(range(args.layouts), job, progress=not args.no_progress)
+    else:
+        summary = evaluate_on_ray(job, args.layouts, args.ray, args.workers)
     data = summary.to_dict()
     data["planning_noise"] = planning if args.planner.startswith("search") else None
     data["time_budget_s"] = args.time_budget

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import sys
 
 from pix2pockets.files import check_output, write_json
 
@@ -29,6 +30,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     tr.add_argument("--no-progress", action="store_true", help="no progress bar (e.g. for log files)")
     tr.add_argument("--tensorboard", metavar="DIR", help="also log to TensorBoard in DIR (off by default)")
     tr.add_argument("--physics", choices=PHYSICS, default="event", help=PHYSICS_HELP)
+    tr.add_argument("--n-envs", type=int, default=1, help="environments side by side, each in a subprocess if > 1")
+    tr.add_argument("--device", default="auto", help="torch device: auto (a GPU when there is one), cpu, cuda")
+    tr.add_argument("--threads", type=int, help="torch threads (default: 1 on <= 2 cores, else half the free cores)")
     tr.set_defaults(func=run_train)
 
     ev = rl_sub.add_parser("evaluate", help="success rate (95%% interval) and full-turn rate of an agent")
@@ -84,10 +88,17 @@ def run_train(args: argparse.Namespace) -> int:
         progress=not args.no_progress,
         tensorboard=args.tensorboard,
         physics=args.physics,
+        n_envs=args.n_envs,
+        device=args.device,
+        threads=args.threads,
     )
-    path = train(config, resume=args.resume)
+    path = train(config, resume=args.resume, log=_notice)
     print(f"saved {path}")
     return 0
+
+
+def _notice(message: str) -> None:
+    print(f"pix2pockets rl train: {message}", file=sys.stderr)
 
 
 def run_evaluate(args: argparse.Namespace) -> int:

@@ -48,6 +48,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("--force", action="store_true", help="overwrite a non-empty output folder")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
+    parser.add_argument(
+        "--ray",
+        nargs="?",
+        const="local",
+        default=None,
+        metavar="ADDRESS",
+        help="render on Ray workers (the ray extra): alone, a Ray instance on this machine; with an address "
+        "(auto, ray://HOST:10001), that cluster. The same bytes as one process",
+    )
+    parser.add_argument("--workers", type=int, default=None, help="CPUs of the local Ray instance (default: all)")
     parser.set_defaults(func=run)
 
 
@@ -57,20 +67,28 @@ def run(args: argparse.Namespace) -> int:
 
     size = parse_size(args.size)
     split = parse_split(args.split)
-    manifest = write_dataset(
-        args.out,
-        args.n,
-        seed=args.seed,
-        size=size,
-        views=args.views,
-        split=split,
-        force=args.force,
-        progress=not args.no_progress,
-        only_split=args.only_split,
-        layout_mode=args.layout,
-        camera_kinds=args.cameras,
-        portrait=args.portrait,
-    )
+    options = {
+        "seed": args.seed,
+        "size": size,
+        "views": args.views,
+        "split": split,
+        "force": args.force,
+        "progress": not args.no_progress,
+        "only_split": args.only_split,
+        "layout_mode": args.layout,
+        "camera_kinds": args.cameras,
+        "portrait": args.portrait,
+    }
+    if args.ray is None:
+        if args.workers is not None:
+            raise ValueError("--workers applies with --ray")
+        manifest = write_dataset(args.out, args.n, **options)
+    else:
+        from pix2pockets.scale import RayPool
+        from pix2pockets.scale.synth import ray_scene_map
+
+        with RayPool(args.ray, args.workers) as pool:
+            manifest = write_dataset(args.out, args.n, scene_map=ray_scene_map(pool), **options)
     counts = ", ".join(f"{k} {v}" for k, v in manifest["counts"].items())
     print(f"wrote {sum(manifest['counts'].values())} images to {args.out} ({counts})")
     return 0

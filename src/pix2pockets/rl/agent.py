@@ -126,6 +126,6 @@ def load_agent(path: str | Path) -> RLAgent:
     require_rl()
     from pix2pockets.rl.algos import configure_torch, load_model
 
-    configure_torch()
+    configure_torch(1)
     meta = read_meta(path)
     return RLAgent(load_model(meta.algo, str(path)), meta)

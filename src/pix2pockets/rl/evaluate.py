@@ -193,7 +193,7 @@ def evaluate_model(path: str, episodes: int, seed: int = 0) -> EvalResult:
     from pix2pockets.rl.algos import algo_spec, configure_torch, load_model
     from pix2pockets.rl.bundle import read_meta
 
-    configure_torch()
+    configure_torch(1)
     meta = read_meta(path)
     model = load_model(meta.algo, path)
     env = make_env(meta.choice)

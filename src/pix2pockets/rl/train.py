@@ -3,8 +3,8 @@
 A run directory holds:
 
 - ``config.json``: the :class:`TrainConfig` (a resumed run must match it),
-- ``monitor.csv``: SB3 ``Monitor`` rows, one per episode (reward ``r``, length ``l``, wall time ``t``, and
-  ``ep_shots`` / ``ep_successes`` / ``ep_won``), appended to across resumes,
+- ``monitor.csv``: SB3 monitor rows, one per episode of any of the run's environments (reward ``r``, length
+  ``l``, wall time ``t``, and ``ep_shots`` / ``ep_successes`` / ``ep_won``), appended to across resumes,
 - ``checkpoint.zip``: the latest model every ``checkpoint_every`` steps (no replay buffer: off-policy runs
   resume with an empty buffer, which refills within ``learning_starts`` + a few thousand steps),
 - ``model.zip``: the final agent (an agent file, see :mod:`pix2pockets.rl.bundle`),
@@ -15,18 +15,28 @@ A run directory holds:
 from __future__ import annotations
 
 import json
+import math
 import time
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
-from pix2pockets.rl.algos import algo_spec, build_model, configure_torch, load_model
+from pix2pockets.rl.algos import (
+    algo_spec,
+    build_model,
+    configure_torch,
+    load_model,
+    progress_bar_missing,
+    resolve_device,
+)
 from pix2pockets.rl.bundle import AgentMeta, write_meta
 from pix2pockets.rl.envs import EPISODE_KEYS, EnvChoice, make_env
 
 CHECKPOINT = "checkpoint.zip"
 FINAL = "model.zip"
 CONFIG = "config.json"
+MONITOR = "monitor.csv"
 STINTS = "stints.jsonl"
 # Only these config fields must match when resuming (steps may grow, progress / checkpointing may change).
 _RESUME_KEYS = ("algo", "env", "mask", "max_power", "seed", "overrides", "physics")
@@ -49,6 +59,9 @@ class TrainConfig:
         tensorboard: TensorBoard log directory (off by default).
         overrides: extra algorithm constructor arguments (e.g. ``{"n_steps": 64}`` in tests).
         physics: the environment's simulator backend (``event`` or ``paper``).
+        n_envs: environments stepped side by side (more than one: each in its own subprocess).
+        device: torch device for the policy: ``auto`` (a GPU when there is one), ``cpu``, ``cuda``, ...
+        threads: torch threads in the training process; ``None``: :func:`pix2pockets.rl.algos.torch_threads`.
     """
 
     algo: str
@@ -63,6 +76,9 @@ class TrainConfig:
     tensorboard: str | None = None
     overrides: dict[str, Any] = field(default_factory=dict)
     physics: str = "event"
+    n_envs: int = 1
+    device: str = "auto"
+    threads: int | None = None
 
     def __post_init__(self) -> None:
         spec = algo_spec(self.algo)
@@ -76,6 +92,10 @@ class TrainConfig:
             raise ValueError(f"steps must be > 0, got {self.steps}")
         if self.checkpoint_every <= 0:
             raise ValueError(f"checkpoint_every must be > 0, got {self.checkpoint_every}")
+        if self.n_envs < 1:
+            raise ValueError(f"n_envs must be >= 1, got {self.n_envs}")
+        if self.threads is not None and self.threads < 1:
+            raise ValueError(f"threads must be >= 1, got {self.threads}")
         _ = self.choice  # validates the env variant
 
     @property
@@ -90,15 +110,43 @@ class TrainConfig:
 
 
 def _make_vec_env(config: TrainConfig, resume: bool) -> Any:
-    from stable_baselines3.common.monitor import Monitor
-    from stable_baselines3.common.vec_env import DummyVecEnv
+    """The training VecEnv: ``n_envs`` copies (subprocesses when more than one) under one ``monitor.csv``.
+
+    A resumed run appends to its ``monitor.csv``; a fresh one starts it anew.
+    """
+    from stable_baselines3.common.monitor import ResultsWriter
+    from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecMonitor
+
+    choice = config.choice
 
     def factory() -> Any:
-        return Monitor(
-            make_env(config.choice), str(Path(config.out)), info_keywords=EPISODE_KEYS, override_existing=not resume
-        )
+        return make_env(choice)
 
-    return DummyVecEnv([factory])
+    factories = [factory] * config.n_envs
+    venv = SubprocVecEnv(factories) if config.n_envs > 1 else DummyVecEnv(factories)
+    path = str(Path(config.out) / MONITOR)
+    env = VecMonitor(venv, None, info_keywords=EPISODE_KEYS)  # its own writer would truncate a resumed file
+    append = resume and Path(path).exists()
+    header = {"t_start": env.t_start, "env_id": choice.env_id}
+    env.results_writer = ResultsWriter(path, header=header, extra_keys=EPISODE_KEYS, override_existing=not append)
+    return env
+
+
+def rollout_steps(model: Any) -> int:
+    """Steps one collection round of ``model`` takes across all its environments (``learn`` counts in these)."""
+    n_steps = getattr(model, "n_steps", None)  # on-policy: PPO, A2C, MaskablePPO
+    if n_steps is not None:
+        return int(n_steps) * int(model.n_envs)
+    freq = getattr(model, "train_freq", None)
+    per_env = int(freq.frequency) if freq is not None and str(freq.unit.value) == "step" else 1
+    return per_env * int(model.n_envs)
+
+
+def planned_steps(done: int, target: int, rollout: int) -> int:
+    """The step count a run ends at: SB3 finishes whole rollouts, so ``target`` rounds up past ``done``."""
+    if target <= done:
+        return done
+    return done + math.ceil((target - done) / rollout) * rollout
 
 
 def _checkpoint_callback(config: TrainConfig) -> Any:
@@ -139,50 +187,76 @@ def _check_resume(config: TrainConfig, out: Path) -> None:
         raise ValueError(f"cannot resume {str(out)!r} with different settings ({pairs})")
 
 
-def train(config: TrainConfig, resume: bool = False) -> Path:
+def _has_run(out: Path) -> bool:
+    """A directory holds a run once it has an agent file; a ``config.json`` alone is a start that failed."""
+    return (out / CONFIG).exists() and ((out / CHECKPOINT).exists() or (out / FINAL).exists())
+
+
+def train(config: TrainConfig, resume: bool = False, log: Callable[[str], None] | None = None) -> Path:
     """Train (or resume) a run; returns the path of the final agent file ``model.zip``.
+
+    Args:
+        config: the run.
+        resume: continue the run in ``config.out`` from its checkpoint.
+        log: receives notices (steps rounded up to whole rollouts, progress bar unavailable); ignored if ``None``.
 
     Raises:
         ValueError: the run directory already holds a run and ``resume`` is false, or it holds a run with
             different settings.
     """
-    configure_torch()
+    say = log or (lambda _msg: None)
     out = Path(config.out)
-    has_run = (out / CONFIG).exists()
+    has_run = _has_run(out)
     if has_run and not resume:
         raise ValueError(f"{str(out)!r} already holds a run; pass --resume to continue it or choose another --out")
     if has_run:
         _check_resume(config, out)
     resume = resume and has_run
+    progress = config.progress
+    if progress and (missing := progress_bar_missing()):
+        say(f"no progress bar: it needs {' and '.join(missing)} (pip install {' '.join(missing)}); training without")
+        progress = False
+    device = resolve_device(config.device)
+    configure_torch(config.threads, config.n_envs)
     out.mkdir(parents=True, exist_ok=True)
-    (out / CONFIG).write_text(json.dumps(asdict(config), indent=2))
 
     env = _make_vec_env(config, resume)
-    ckpt = out / CHECKPOINT
-    if resume and ckpt.exists():
-        model = load_model(config.algo, str(ckpt), env=env)
-        if algo_spec(config.algo).action_noise and getattr(model, "action_noise", None) is None:
-            model.action_noise = build_model(config.algo, env, config.seed, **config.overrides).action_noise
-    else:
-        model = build_model(config.algo, env, config.seed, tensorboard_log=config.tensorboard, **config.overrides)
-    done = int(model.num_timesteps)
-    # Fresh layouts after a resume instead of replaying the first stint's sequence.
-    env.seed(config.seed + done)
-    remaining = config.steps - done
-    start = time.perf_counter()
-    if remaining > 0:
-        model.learn(
-            total_timesteps=remaining,
-            callback=_checkpoint_callback(config),
-            reset_num_timesteps=False,
-            progress_bar=config.progress,
-        )
-    wall = time.perf_counter() - start
-    trained = int(model.num_timesteps) - done
-    save_agent(model, config, out / CHECKPOINT)
-    save_agent(model, config, out / FINAL)
-    env.close()
-    stint = {"steps_before": done, "steps": trained, "wall_s": round(wall, 2)}
+    try:
+        ckpt = out / CHECKPOINT
+        if resume and ckpt.exists():
+            model = load_model(config.algo, str(ckpt), env=env, device=device)
+            if algo_spec(config.algo).action_noise and getattr(model, "action_noise", None) is None:
+                model.action_noise = build_model(config.algo, env, config.seed, **config.overrides).action_noise
+        else:
+            model = build_model(
+                config.algo, env, config.seed, tensorboard_log=config.tensorboard, device=device, **config.overrides
+            )
+        (out / CONFIG).write_text(json.dumps(asdict(config), indent=2))
+        done = int(model.num_timesteps)
+        end = planned_steps(done, config.steps, rollout_steps(model))
+        if end > max(done, config.steps):
+            say(
+                f"{config.algo} collects {rollout_steps(model)}-step rollouts ({config.n_envs} env(s)): "
+                f"training to {end} steps, not {config.steps}"
+            )
+        # Fresh layouts after a resume instead of replaying the first stint's sequence.
+        env.seed(config.seed + done)
+        remaining = config.steps - done
+        start = time.perf_counter()
+        if remaining > 0:
+            model.learn(
+                total_timesteps=remaining,
+                callback=_checkpoint_callback(config),
+                reset_num_timesteps=False,
+                progress_bar=progress,
+            )
+        wall = time.perf_counter() - start
+        trained = int(model.num_timesteps) - done
+        save_agent(model, config, out / CHECKPOINT)
+        save_agent(model, config, out / FINAL)
+    finally:
+        env.close()
+    stint = {"steps_before": done, "steps": trained, "wall_s": round(wall, 2), "n_envs": config.n_envs}
     stint["steps_per_s"] = round(trained / wall, 2) if wall > 0 and trained else None
     with (out / STINTS).open("a") as fh:
         fh.write(json.dumps(stint) + "\n")

@@ -16,8 +16,10 @@ from __future__ import annotations
 import json
 import os
 import shutil
-from collections.abc import Iterator, Sequence
+import tempfile
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from contextlib import contextmanager
+from dataclasses import dataclass
 from pathlib import Path
 
 import cv2
@@ -81,6 +83,71 @@ def write_sample(root: Path, split: str, stem: str, rend: Render) -> None:
     (root / split / "meta" / f"{stem}.json").write_text(json.dumps(meta, indent=1))
 
 
+@dataclass(frozen=True, slots=True)
+class SceneJob:
+    """What every scene of a dataset shares; scene ``i`` is rendered from ``(seed, i)`` alone.
+
+    Attributes:
+        seed: dataset seed.
+        size: image (width, height) [px].
+        views: 1 (one random camera) or 3 (top, ~45 deg, front).
+        kinds: camera kinds to draw from (``None``: all).
+        layout_mode: every scene's layout mode (``None``: drawn per scene).
+        portrait: share of phone views rendered upright.
+    """
+
+    seed: int
+    size: tuple[int, int]
+    views: int = 1
+    kinds: tuple[str, ...] | None = None
+    layout_mode: str | None = None
+    portrait: float = 0.0
+
+
+SceneFiles = tuple[dict[str, bytes], list[dict]]
+"""One scene's files (path relative to the dataset root -> bytes) and its manifest items."""
+SceneMap = Callable[[SceneJob, Sequence[tuple[int, str]]], Iterable[SceneFiles]]
+"""Renders ``(scene index, split)`` pairs anywhere (e.g. Ray workers) and yields their files in the same order."""
+
+
+def write_scene(root: Path, job: SceneJob, i: int, split: str) -> list[dict]:
+    """Render scene ``i`` into ``root/split/...``; returns its manifest items."""
+    items = []
+    if job.views == 1:
+        rend = render(
+            (job.seed, i), job.size, camera_kind=job.kinds, layout_mode=job.layout_mode, portrait=job.portrait
+        )
+        stem = f"synth_{job.seed}_{i:06d}"
+        write_sample(root, split, stem, rend)
+        items.append({"image": f"{split}/images/{stem}.jpg", "scene": i, "camera": rend.labels["camera"]["kind"]})
+    else:
+        for rend in render_views((job.seed, i), job.size, layout_mode=job.layout_mode):
+            stem = f"synth_{job.seed}_{i:06d}_{rend.labels['view']}"
+            rend.labels["scene_id"] = i
+            write_sample(root, split, stem, rend)
+            items.append({"image": f"{split}/images/{stem}.jpg", "scene": i, "view": rend.labels["view"]})
+    return items
+
+
+def scene_files(job: SceneJob, scenes: Sequence[tuple[int, str]]) -> list[SceneFiles]:
+    """Render ``(index, split)`` scenes into a scratch folder and return their files' bytes (for remote workers:
+    the same writer as a local run, so the same bytes)."""
+    out = []
+    with tempfile.TemporaryDirectory(prefix="synth-shard-") as scratch:
+        root = Path(scratch)
+        for i, split in scenes:
+            for sub in ("images", "labels", "meta"):
+                (root / split / sub).mkdir(parents=True, exist_ok=True)
+            items = write_scene(root, job, i, split)
+            files = {}
+            for path in sorted(root.rglob("*")):
+                if path.is_file():
+                    files[path.relative_to(root).as_posix()] = path.read_bytes()
+                    path.unlink()
+            out.append((files, items))
+    return out
+
+
 @contextmanager
 def staged_dataset(out_dir: str | os.PathLike, force: bool = False) -> Iterator[Path]:
     """A folder ``OUT.partial`` with empty split folders to write a dataset into; it becomes ``out_dir`` only
@@ -125,6 +192,7 @@ def write_dataset(
     layout_mode: str | None = None,
     camera_kinds: str | Sequence[str] | None = None,
     portrait: float = 0.0,
+    scene_map: SceneMap | None = None,
 ) -> dict:
     """Render ``n`` scenes into a YOLO dataset at ``out_dir``.
 
@@ -146,6 +214,8 @@ def write_dataset(
             camera per scene only.
         portrait: share of phone views rendered upright at (height, width) (``render(..., portrait=)``); one random
             camera per scene only.
+        scene_map: renders the scenes elsewhere (e.g. :func:`pix2pockets.scale.synth.ray_scene_map`); the files
+            are byte-identical to a local run.
 
     Returns:
         The manifest (also written to ``out_dir/manifest.json``).
@@ -172,25 +242,28 @@ def write_dataset(
         raise ValueError("portrait frames apply to one random camera per scene (views 1)")
     assignment = split_assignment(n, fractions, seed)
     items = []
-    iterator = [i for i in range(n) if only_split is None or assignment[i] == only_split]
+    todo = [(i, assignment[i]) for i in range(n) if only_split is None or assignment[i] == only_split]
+    job = SceneJob(seed, tuple(size), views, None if kinds is None else tuple(kinds), layout_mode, portrait)
+    bar = None
     if progress:
         from tqdm import tqdm
 
-        iterator = tqdm(iterator, desc="synth", unit="scene" if views > 1 else "img")
+        bar = tqdm(total=len(todo), desc="synth", unit="scene" if views > 1 else "img")
     with staged_dataset(out_dir, force) as tmp:
-        for i in iterator:
-            s = assignment[i]
-            if views == 1:
-                rend = render((seed, i), size, camera_kind=kinds, layout_mode=layout_mode, portrait=portrait)
-                stem = f"synth_{seed}_{i:06d}"
-                write_sample(tmp, s, stem, rend)
-                items.append({"image": f"{s}/images/{stem}.jpg", "scene": i, "camera": rend.labels["camera"]["kind"]})
-            else:
-                for rend in render_views((seed, i), size, layout_mode=layout_mode):
-                    stem = f"synth_{seed}_{i:06d}_{rend.labels['view']}"
-                    rend.labels["scene_id"] = i
-                    write_sample(tmp, s, stem, rend)
-                    items.append({"image": f"{s}/images/{stem}.jpg", "scene": i, "view": rend.labels["view"]})
+        if scene_map is None:
+            for i, s in todo:
+                items.extend(write_scene(tmp, job, i, s))
+                if bar is not None:
+                    bar.update(1)
+        else:
+            for files, scene_items in scene_map(job, todo):
+                for rel, data in files.items():
+                    (tmp / rel).write_bytes(data)
+                items.extend(scene_items)
+                if bar is not None:
+                    bar.update(1)
+        if bar is not None:
+            bar.close()
         manifest = {
             "generator": "pix2pockets.synth",
             "seed": seed,

@@ -8,6 +8,7 @@ index))``, so a resumed run sees the same samples as an uninterrupted one.
 from __future__ import annotations
 
 import dataclasses
+import inspect
 import json
 import math
 import os
@@ -202,6 +203,19 @@ def _sample(
     )
 
 
+def _new_model(cfg: TrainConfig, resume: bool) -> CenterNet:
+    """The network to train. ImageNet trunk weights are read only when nothing else sets them: with ``--init``
+    or a resume every weight is overwritten, so the weights package is not needed; the trunk's first layers are
+    frozen all the same (the same random draws, so the result does not depend on that package)."""
+    if not (cfg.pretrained and (cfg.init or resume)):
+        return CenterNet(pretrained=cfg.pretrained)
+    model = CenterNet(pretrained=False)
+    model.n_frozen = inspect.signature(CenterNet).parameters["frozen_layers"].default
+    for p in model.backbone.features[: model.n_frozen].parameters():
+        p.requires_grad_(False)
+    return model
+
+
 def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path:
     """Train (or resume) and export; returns the ONNX path.
 
@@ -213,7 +227,7 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
     torch.set_num_threads(cfg.threads)
     torch.manual_seed(cfg.seed)
     main, balls = _load_sources(cfg)
-    model = CenterNet(pretrained=cfg.pretrained)
+    model = _new_model(cfg, resume)
     opt = torch.optim.AdamW([p for p in model.parameters() if p.requires_grad], lr=cfg.lr, weight_decay=1e-4)
     if cfg.init and not resume:
         _load_init(model, cfg, main, balls)
