@@ -102,12 +102,22 @@ def test_evaluate_planner_cli(tmp_path, capsys):
     assert "per-shot success" in capsys.readouterr().out
 
 
+def test_evaluate_planner_cli_skill(tmp_path):
+    out = tmp_path / "res.json"
+    code = main(["evaluate", "planner", "--planner", "oracle", "--balls", "2", "--layouts", "2", "--skill", "club",
+                 "--json", str(out), "--no-progress"])  # fmt: skip
+    assert code == 0
+    assert json.loads(out.read_text())["noise"] == "club"
+
+
 @pytest.mark.parametrize(
     "argv",
     [
         ["evaluate", "planner", "--layouts", "0"],
         ["evaluate", "planner", "--noise", "loud", "--layouts", "1"],
         ["evaluate", "planner", "--json", "/nonexistent/dir/x.json", "--layouts", "1"],
+        ["evaluate", "planner", "--skill", "wizard", "--layouts", "1"],
+        ["evaluate", "planner", "--skill", "club", "--noise", "pro", "--layouts", "1"],
     ],
 )
 def test_evaluate_planner_cli_errors(argv, capsys):

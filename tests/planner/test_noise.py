@@ -48,3 +48,54 @@ def test_bad_names(name):
 def test_bad_sigma():
     with pytest.raises(ValueError, match="angle_sigma"):
         GaussianNoise(angle_sigma=-1.0)
+
+
+def test_skill_levels_ordered_and_pro_is_fastfiz():
+    from pix2pockets.planner.noise import SKILLS
+
+    assert list(SKILLS) == ["pro", "club", "beginner"]
+    pro, club, beginner = SKILLS.values()
+    assert (pro.angle_sigma, pro.speed_sigma, pro.elevation_sigma, pro.tip_sigma) == (
+        pytest.approx(FASTFIZ.angle_sigma),
+        pytest.approx(FASTFIZ.speed_sigma),
+        pytest.approx(FASTFIZ.elevation_sigma),
+        pytest.approx(FASTFIZ.tip_sigma),
+    )
+    for field in ("angle_sigma", "speed_sigma", "elevation_sigma", "tip_sigma"):
+        assert getattr(pro, field) < getattr(club, field) < getattr(beginner, field)
+    assert noise_model("club") is SKILLS["club"]
+
+
+def test_noise_file(tmp_path):
+    from pix2pockets.planner.noise import load_noise_file
+
+    path = tmp_path / "me.json"
+    path.write_text('{"aim_deg": 0.3, "speed_mps": 0.1, "tip_mm": 2}')
+    noise = noise_model(str(path))
+    assert noise.name == "me"
+    assert noise.angle_sigma == pytest.approx(math.radians(0.3))
+    assert noise.speed_sigma == 0.1 and noise.elevation_sigma == 0.0 and noise.tip_sigma == pytest.approx(0.002)
+    assert load_noise_file(path) == noise
+
+
+@pytest.mark.parametrize(
+    "text, match",
+    [
+        ("not json", "cannot read"),
+        ("[1, 2]", "JSON object"),
+        ('{"speed_mps": 0.1}', "aim_deg"),
+        ('{"aim_deg": 0.2, "spin": 1}', "unknown keys"),
+        ('{"aim_deg": "x"}', "must be a number"),
+        ('{"aim_deg": -0.2}', "angle_sigma"),
+    ],
+)
+def test_bad_noise_file(tmp_path, text, match):
+    path = tmp_path / "bad.json"
+    path.write_text(text)
+    with pytest.raises(ValueError, match=match):
+        noise_model(str(path))
+
+
+def test_missing_noise_file(tmp_path):
+    with pytest.raises(ValueError, match="cannot read"):
+        noise_model(str(tmp_path / "nope.json"))

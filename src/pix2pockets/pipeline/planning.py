@@ -3,17 +3,24 @@
 Any object with the shape of :class:`pix2pockets.planner.Planner` fits (``suggest(layout, state, rng)``
 returning ranked candidates that carry ``shot``, ``target``, ``pocket``, ``kind``,
 ``success_probability``, ``value``, ``hitpoint`` and ``safety``).
+
+With the search planner the chance shown is measured (:func:`pix2pockets.planner.chance.measure_chance`):
+the chosen stroke replayed :data:`CHANCE_SAMPLES` times under the player's skill noise, with the balls
+moved by the photo's location error (:data:`PHOTO_POSITION_SIGMA` per axis), and reported with its sample
+size.
 """
 
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from typing import Any, Protocol, runtime_checkable
 
 import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.pipeline.result import ShotAdvice
+from pix2pockets.planner.chance import Chance, measure_chance
 from pix2pockets.rules import GameState
 from pix2pockets.state import BallClass, Group, Shot, TableLayout
 
@@ -25,22 +32,75 @@ class ShotPlanner(Protocol):
     def suggest(self, layout: TableLayout, state: GameState, rng: np.random.Generator | None = None) -> list: ...
 
 
-def default_planner(time_budget: float | None = None) -> ShotPlanner:
+CHANCE_SAMPLES = 400
+"""Sampled executions behind a shown chance (a 95% interval of about +-5 points at 50%)."""
+PHOTO_POSITION_SIGMA = 0.003
+"""Ball-position error of a photo per axis [m]: the shipped detector's median ball error is 1.4-4.2 mm
+(docs/benchmarks-vision.md); a 2-D Gaussian with 3 mm per axis has a median error of 3.5 mm."""
+DEFAULT_SKILL = "pro"
+"""The skill level the pipeline plans for unless told (FastFiz noise; see ``docs/planner.md``)."""
+
+
+def default_planner(time_budget: float | None = None, skill: str = DEFAULT_SKILL) -> ShotPlanner:
     """The project's default planner: :class:`pix2pockets.planner.search.SearchPlanner` (event physics,
-    FastFiz-like execution noise).
+    planning for the player's skill level: ``pro``, ``club``, ``beginner`` or a noise ``FILE.json``).
 
     Without ``time_budget`` the search runs to completion, so the same photo always gets the same answer
     (typically 0.1-0.4 s per group on one core). A wall-clock budget [s] per group caps the time but makes
     the answer depend on machine load (and on a first run's JIT compile).
 
     Raises:
-        ValueError: when the planner cannot be built in this installation.
+        ValueError: an unknown skill level, or the planner cannot be built in this installation.
     """
     try:
         from pix2pockets.planner.search import SearchConfig, SearchPlanner
     except ImportError as err:  # pragma: no cover - depends on the build
         raise ValueError(f"no shot planner available: {err}") from None
-    return SearchPlanner(SearchConfig(time_budget=time_budget))
+    return SearchPlanner(SearchConfig(time_budget=time_budget, noise=skill))
+
+
+def _search_planner(planner: Any) -> Any | None:
+    """The search planner inside ``planner`` (wrappers keep it as ``.planner``), or ``None``."""
+    for _ in range(3):
+        if hasattr(planner, "_run") and hasattr(planner, "_success") and hasattr(planner, "noise"):
+            return planner
+        planner = getattr(planner, "planner", None)
+        if planner is None:
+            return None
+    return None
+
+
+def shot_chance(
+    planner: Any,
+    layout: TableLayout,
+    group: Group,
+    shot: Shot,
+    samples: int = CHANCE_SAMPLES,
+    position_sigma: float = PHOTO_POSITION_SIGMA,
+    seed: int = 0,
+    target: int | None = None,
+    aim_point: np.ndarray | None = None,
+) -> Chance | None:
+    """The measured chance of ``shot`` under the planner's noise (``None`` for planners without a simulator).
+
+    With ``target`` and ``aim_point`` (the ghost-ball centre [m]) the stroke is re-aimed on each layout drawn
+    with the position error, as a player aiming at the real balls would.
+    """
+    search = _search_planner(planner)
+    if search is None or samples < 1:
+        return None
+    rng = np.random.default_rng([seed, 7])
+    return measure_chance(
+        search,
+        layout,
+        GameState(group=group),
+        shot,
+        samples=samples,
+        rng=rng,
+        position_sigma=position_sigma,
+        target=target,
+        aim_point=aim_point,
+    )
 
 
 def _rail_hit(start: np.ndarray, angle: float, spec: TableSpec) -> np.ndarray:
@@ -120,9 +180,18 @@ def advice_from_candidate(candidate: Any, layout: TableLayout, group: Group) -> 
 
 
 def plan_shot(
-    layout: TableLayout, group: str | Group, planner: ShotPlanner, rng: np.random.Generator | None = None
+    layout: TableLayout,
+    group: str | Group,
+    planner: ShotPlanner,
+    rng: np.random.Generator | None = None,
+    chance_samples: int = CHANCE_SAMPLES,
+    position_sigma: float = PHOTO_POSITION_SIGMA,
 ) -> ShotAdvice:
     """Best shot for ``group`` (``solids``, ``stripes`` or ``auto``: the group with the better shot).
+
+    The advice's ``success_probability`` is the measured chance of the chosen stroke (``chance_samples``
+    executions under the planner's noise, balls moved by ``position_sigma`` [m] per axis) when the planner
+    simulates; otherwise the planner's own estimate.
 
     Raises:
         ValueError: no cue ball, or no ball of the group (and no 8-ball) on the table.
@@ -155,4 +224,14 @@ def plan_shot(
             best = (score, advice)
     if best is None:
         raise ValueError("the planner found no shot")
-    return best[1]
+    advice = best[1]
+    if advice.safety or advice.stroke is None:
+        return advice
+    g = Group(advice.group)
+    # the player aims at the real balls: direct and bank strokes follow the ghost ball; kicks keep their angle
+    aim = advice.ghost if advice.kind != "kick" else None
+    chance = shot_chance(planner, layout, g, advice.stroke, chance_samples, position_sigma, 0, advice.target_ball, aim)
+    if chance is None:
+        return advice
+    exact = chance if position_sigma == 0 else shot_chance(planner, layout, g, advice.stroke, chance_samples, 0.0)
+    return replace(advice, success_probability=chance.p, chance=chance, chance_exact_positions=exact)

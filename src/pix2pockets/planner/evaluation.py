@@ -23,8 +23,8 @@ from __future__ import annotations
 
 import math
 import time
-from collections.abc import Callable
-from dataclasses import dataclass, field
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -260,18 +260,23 @@ def evaluate_planner(
     physics: str = "",
     progress: bool = False,
     protocol: Protocol | None = None,
+    first: int = 0,
 ) -> EvaluationSummary:
     """Run ``layouts`` seeded turns; layout ``i`` depends only on ``(seed, i)`` (not on the planner).
 
-    ``protocol`` (default :func:`ours_protocol`) gives the layouts, the shooter and the judgement.
+    ``protocol`` (default :func:`ours_protocol`) gives the layouts, the shooter and the judgement. ``first``
+    starts at layout ``first`` (turns ``first .. first + layouts - 1``): pieces of one evaluation run anywhere
+    and :func:`merge_summaries` joins them into the summary of the whole.
     """
     if layouts < 1:
         raise ValueError(f"layouts must be >= 1, got {layouts}")
+    if first < 0:
+        raise ValueError(f"first must be >= 0, got {first}")
     protocol = protocol or ours_protocol()
     state = protocol.state
     shots = successes = clears = 0
     times: list[float] = []
-    it = range(layouts)
+    it = range(first, first + layouts)
     if progress:
         from tqdm import tqdm
 
@@ -285,9 +290,36 @@ def evaluate_planner(
         clears += rec.cleared
         times.extend(rec.decision_times)
         if progress:
-            it.set_postfix(shot=f"{successes / max(shots, 1):.3f}", clear=f"{clears / (i + 1):.3f}")
+            it.set_postfix(shot=f"{successes / max(shots, 1):.3f}", clear=f"{clears / (i - first + 1):.3f}")
     return EvaluationSummary(
         planner.name, physics, noise.name, balls, seed, layouts, shots, successes, clears, tuple(times), protocol.name
+    )
+
+
+def merge_summaries(parts: Sequence[EvaluationSummary]) -> EvaluationSummary:
+    """One summary from the summaries of consecutive layout ranges of one evaluation (in layout order).
+
+    Counts add up and decision times are concatenated, so the result equals a single run over all layouts
+    (decision times are wall-clock, so only their count matches).
+
+    Raises:
+        ValueError: no parts, or parts of different evaluations (planner, physics, noise, balls, seed, protocol).
+    """
+    if not parts:
+        raise ValueError("nothing to merge")
+    head = parts[0]
+    key = (head.planner, head.physics, head.noise, head.balls, head.seed, head.protocol)
+    for part in parts[1:]:
+        other = (part.planner, part.physics, part.noise, part.balls, part.seed, part.protocol)
+        if other != key:
+            raise ValueError(f"cannot merge evaluations of different settings: {key} and {other}")
+    return replace(
+        head,
+        turns=sum(p.turns for p in parts),
+        shots=sum(p.shots for p in parts),
+        successes=sum(p.successes for p in parts),
+        clears=sum(p.clears for p in parts),
+        decision_times=tuple(t for p in parts for t in p.decision_times),
     )
 
 
@@ -299,6 +331,7 @@ __all__ = [
     "TurnRecord",
     "environment_state",
     "evaluate_planner",
+    "merge_summaries",
     "ours_protocol",
     "paper_protocol",
     "play_turn",

@@ -4,6 +4,12 @@ All models are Gaussian and independent per stroke parameter; ``none`` is the ze
 preset is the noise of the Computational Pool tournaments (FastFiz): standard deviations of 0.125 deg in
 cue direction, 0.075 m/s in speed, 0.1 deg in elevation and 0.5 mm in each tip offset.
 
+Skill levels (:data:`SKILLS`, names ``pro``, ``club``, ``beginner``) are noise models for human players:
+``pro`` is FastFiz's published noise; ``club`` and ``beginner`` are estimates (see ``docs/planner.md``,
+"Skill levels", for their sources and how they were chosen). A custom model is read from a small JSON file
+(:func:`load_noise_file`): ``{"name": "me", "aim_deg": 0.3, "speed_mps": 0.15, "elevation_deg": 0.5,
+"tip_mm": 1.5}``.
+
 Example:
     >>> import numpy as np
     >>> from pix2pockets.state import Shot
@@ -19,8 +25,10 @@ References:
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import dataclass
+from pathlib import Path
 from typing import Protocol, runtime_checkable
 
 import numpy as np
@@ -135,11 +143,65 @@ FASTFIZ = GaussianNoise(
     tip_sigma=0.0005,
 )
 
+
+def skill_noise(name: str, aim_deg: float, speed_mps: float, elevation_deg: float, tip_mm: float) -> GaussianNoise:
+    """A human skill level as Gaussian stroke noise (sigmas in the units players quote: deg, m/s, deg, mm)."""
+    return GaussianNoise(
+        name,
+        angle_sigma=math.radians(aim_deg),
+        speed_sigma=speed_mps,
+        elevation_sigma=math.radians(elevation_deg),
+        tip_sigma=tip_mm / 1000.0,
+    )
+
+
+SKILLS: dict[str, GaussianNoise] = {
+    "pro": skill_noise("pro", 0.125, 0.075, 0.1, 0.5),  # FastFiz (published); a robot-level player
+    "club": skill_noise("club", 0.2, 0.15, 0.5, 1.5),  # estimate (see docs)
+    "beginner": skill_noise("beginner", 0.4, 0.3, 1.0, 3.0),  # estimate (see docs)
+}
+"""Skill levels, best first. Parameters and sources: ``docs/planner.md`` ("Skill levels")."""
+
 NOISE_PRESETS: dict[str, GaussianNoise] = {
     "none": NO_NOISE,
     "fastfiz": FASTFIZ,
     "fastfiz5x": FASTFIZ.scaled(5.0),
+    **SKILLS,
 }
+
+_FILE_KEYS = {"name", "aim_deg", "speed_mps", "elevation_deg", "tip_mm"}
+
+
+def load_noise_file(path: str | Path) -> GaussianNoise:
+    """A custom skill level from a JSON file.
+
+    The file holds ``aim_deg`` (cue direction sigma [deg]) and optionally ``speed_mps`` [m/s],
+    ``elevation_deg`` [deg], ``tip_mm`` [mm] (each tip axis) and ``name`` (default: the file's stem).
+
+    Raises:
+        ValueError: unreadable file, unknown keys, or a sigma that is negative or not a number.
+    """
+    path = Path(path)
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, json.JSONDecodeError) as err:
+        raise ValueError(f"cannot read noise file {str(path)!r}: {err}") from None
+    if not isinstance(data, dict) or "aim_deg" not in data:
+        raise ValueError(f"noise file {str(path)!r} must be a JSON object with at least 'aim_deg'")
+    unknown = set(data) - _FILE_KEYS
+    if unknown:
+        raise ValueError(f"noise file {str(path)!r}: unknown keys {sorted(unknown)}; known: {sorted(_FILE_KEYS)}")
+    values = {}
+    for key in ("aim_deg", "speed_mps", "elevation_deg", "tip_mm"):
+        value = data.get(key, 0.0)
+        if isinstance(value, bool) or not isinstance(value, int | float):
+            raise ValueError(f"noise file {str(path)!r}: {key} must be a number, got {value!r}")
+        values[key] = float(value)
+    name = str(data.get("name", path.stem))
+    try:
+        return skill_noise(name, **values)
+    except ValueError as err:
+        raise ValueError(f"noise file {str(path)!r}: {err}") from None
 
 
 def aim_noise(sigma_deg: float) -> GaussianNoise:
@@ -150,11 +212,14 @@ def aim_noise(sigma_deg: float) -> GaussianNoise:
 def noise_model(name: str) -> GaussianNoise:
     """A noise model by name.
 
-    Names: ``none``, ``fastfiz``, ``fastfiz5x``, ``aim:<deg>`` (direction only), ``gauss:<deg>:<m/s>``
-    (direction and speed sigmas).
+    Names: ``none``, ``fastfiz``, ``fastfiz5x``, the skill levels ``pro``, ``club``, ``beginner``,
+    ``aim:<deg>`` (direction only), ``gauss:<deg>:<m/s>`` (direction and speed sigmas), or the path of a
+    JSON file ending in ``.json`` (:func:`load_noise_file`).
     """
     if name in NOISE_PRESETS:
         return NOISE_PRESETS[name]
+    if name.endswith(".json"):
+        return load_noise_file(name)
     parts = name.split(":")
     try:
         if parts[0] == "aim" and len(parts) == 2:
@@ -164,5 +229,6 @@ def noise_model(name: str) -> GaussianNoise:
     except ValueError as err:
         raise ValueError(f"bad noise model {name!r}: {err}") from None
     raise ValueError(
-        f"unknown noise model {name!r}; use one of {sorted(NOISE_PRESETS)}, 'aim:<deg>' or 'gauss:<deg>:<m/s>'"
+        f"unknown noise model {name!r}; use one of {sorted(NOISE_PRESETS)}, 'aim:<deg>', 'gauss:<deg>:<m/s>' "
+        "or a FILE.json"
     )

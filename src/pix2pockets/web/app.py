@@ -2,7 +2,8 @@
 
 Routes:
     ``GET /``: the page (one self-contained HTML file: inline CSS and JS, nothing fetched from elsewhere).
-    ``POST /api/jobs``: multipart ``file`` (the photo) and ``group`` (``auto``, ``solids`` or ``stripes``);
+    ``POST /api/jobs``: multipart ``file`` (the photo), ``group`` (``auto``, ``solids`` or ``stripes``) and
+    optionally ``skill`` (``pro``, the default, ``club`` or ``beginner``: the shot and its chance are for it);
     answers 202 at once with the job's id; ``GET /api/jobs/{id}`` follows it (queued with the number of photos
     ahead, then each stage, then the answer). ``?since=VERSION`` waits up to 15 s for the next change.
     ``POST /api/suggest``: the same upload, answered when done: the JSON of ``pix2pockets suggest --json`` plus
@@ -10,7 +11,7 @@ Routes:
     ``GET /api/example``: the bundled example photo. ``GET /api/health``: ``{"status": "ok", ...}`` with the
     pool's counts. ``GET /favicon.ico``: the icon.
 
-Every error is JSON ``{"error": "<one line>"}``: 400 bad upload or group, 404 unknown route or job, 413 upload
+Every error is JSON ``{"error": "<one line>"}``: 400 bad upload, group or skill, 404 unknown route or job, 413 upload
 too large, 422 a readable photo where the table, the cue ball or the group's balls are not found, 503 busy
 (with ``Retry-After``), shutting down, or no detector or planner in this build. The photo goes through the same
 functions as the CLI (see :mod:`pix2pockets.web.worker`).
@@ -43,7 +44,7 @@ from pix2pockets import __version__
 from pix2pockets.vision.image_io import MAX_PIXELS
 from pix2pockets.web.jobs import BusyError, Job, JobBoard
 from pix2pockets.web.pool import MAX_WAIT_S, WorkerPool
-from pix2pockets.web.worker import MAX_PICTURE_SIDE, EngineSpec, WebError, one_line
+from pix2pockets.web.worker import MAX_PICTURE_SIDE, SKILLS, EngineSpec, WebError, job_group, one_line
 
 if TYPE_CHECKING:  # the app's process stays light: the models and the pipeline live in the workers
     from pix2pockets.pipeline.planning import ShotPlanner
@@ -206,6 +207,7 @@ def create_app(
             "status": "shutting down" if board.closing else "ok",
             "version": __version__,
             "groups": list(GROUPS),
+            "skills": list(SKILLS),
             "max_upload_bytes": max_upload_bytes,
             "example": example.is_file(),
             **board.stats(),
@@ -230,13 +232,16 @@ def create_app(
                 group = form.get("group", "auto")
                 if not isinstance(group, str) or group.strip().lower() not in GROUPS:
                     raise WebError(400, f"unknown group {str(group)[:40]!r}; choose {', '.join(GROUPS)}")
+                skill = form.get("skill", "pro")
+                if not isinstance(skill, str) or skill.strip().lower() not in SKILLS:
+                    raise WebError(400, f"unknown skill {str(skill)[:40]!r}; choose {', '.join(SKILLS)}")
                 upload = form.get("file")
                 if not isinstance(upload, UploadFile):
                     raise WebError(400, "no photo uploaded (send it as the multipart file field 'file')")
                 data = await upload.read()
                 name = _upload_name(upload)
             _check_header(data, name, max_pixels)
-            return submit(data, name, group.strip().lower(), keep)
+            return submit(data, name, job_group(group.strip().lower(), skill.strip().lower()), keep)
 
     @app.post("/api/suggest")
     async def suggest(request: Request) -> JSONResponse:

@@ -111,6 +111,21 @@ def picture_parts(photo_shape: tuple[int, ...], picture_shape: tuple[int, ...], 
     return {"photo": box(0, 0, pw, ph), "diagram": box(pw, 0, W - pw, ph), "caption": box(0, ph, W, H - ph)}
 
 
+SKILLS = ("pro", "club", "beginner")
+"""Skill levels the page offers (:data:`pix2pockets.planner.noise.SKILLS`); ``pro`` is the default."""
+
+
+def job_group(group: str, skill: str = "pro") -> str:
+    """The job's group field carrying the skill level too (``solids@club``): the queue passes it through as is."""
+    return group if skill == "pro" else f"{group}@{skill}"
+
+
+def split_group(field: str) -> tuple[str, str]:
+    """``(group, skill)`` from a job's group field (:func:`job_group`)."""
+    group, _, skill = field.partition("@")
+    return group, skill or "pro"
+
+
 class Engine:
     """One worker's models and its way from an upload to the answer."""
 
@@ -118,6 +133,17 @@ class Engine:
         self.spec = spec
         self.detector = spec.detector
         self.planner = spec.planner
+        self.skill_planners: dict[str, Any] = {}
+
+    def planner_for(self, skill: str) -> Any:
+        """The planner for a skill level: the given planner for every level, else the default one per level."""
+        if skill == "pro" or self.spec.planner is not None:
+            return self.planner
+        if skill not in self.skill_planners:
+            from pix2pockets.pipeline.planning import default_planner
+
+            self.skill_planners[skill] = default_planner(skill=skill)
+        return self.skill_planners[skill]
 
     def load(self) -> None:
         """Load the detector and the planner (once).
@@ -184,7 +210,8 @@ class Engine:
         self.load()
         report("detect")
         detector = _Reporting(self.detector, "detect", after=_Once(report, "fit"))
-        planner = _Reporting(self.planner, "suggest", before=_Once(report, "plan"))
+        group, skill = split_group(group)
+        planner = _Reporting(self.planner_for(skill), "suggest", before=_Once(report, "plan"))
         try:
             result = photo.suggest(rgb, group=group, detector=detector, planner=planner)
         except ValueError as err:

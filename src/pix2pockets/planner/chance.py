@@ -1,0 +1,168 @@
+"""Success chances that mean something: the measured fraction of sampled executions that succeed.
+
+A stroke's chance is measured by replaying it ``samples`` times under a noise model (fresh draws, not the
+planner's own replays, so the choice of the best stroke does not bias it), optionally with the balls'
+positions jittered to model the photo's location error. It is reported with its sample size and shown
+rounded; a finite sample never shows "100%" or "0%" (``">99%"``, ``"<1%"``).
+
+Example:
+    >>> Chance(200, 200).text, Chance(130, 200).text, Chance(0, 200).text
+    ('>99%', '65%', '<1%')
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from pix2pockets.planner.evaluation import wilson_interval
+from pix2pockets.planner.noise import GaussianNoise
+from pix2pockets.rules import GameState
+from pix2pockets.state import Shot, TableLayout
+
+
+@dataclass(frozen=True, slots=True)
+class Chance:
+    """A measured success chance.
+
+    Attributes:
+        successes: sampled executions that succeeded.
+        samples: sampled executions.
+        noise: name of the noise model the executions were drawn from.
+        position_sigma: ball-position error per axis used for the draws [m] (0: positions as given).
+    """
+
+    successes: int
+    samples: int
+    noise: str = ""
+    position_sigma: float = 0.0
+
+    def __post_init__(self) -> None:
+        if self.samples < 1 or not 0 <= self.successes <= self.samples:
+            raise ValueError(f"Chance needs 0 <= successes <= samples and samples >= 1, got {self}")
+
+    @property
+    def p(self) -> float:
+        """Measured fraction in [0, 1]."""
+        return self.successes / self.samples
+
+    @property
+    def ci95(self) -> tuple[float, float]:
+        """95% Wilson interval of the chance."""
+        return wilson_interval(self.successes, self.samples)
+
+    @property
+    def text(self) -> str:
+        """The chance for people, whole percent; never 100% or 0% from a finite sample."""
+        return format_chance(self.p)
+
+    def to_dict(self) -> dict:
+        lo, hi = self.ci95
+        return {
+            "chance": round(self.p, 4),
+            "text": self.text,
+            "successes": self.successes,
+            "samples": self.samples,
+            "ci95": [round(lo, 4), round(hi, 4)],
+            "noise": self.noise,
+            "position_sigma_m": self.position_sigma,
+        }
+
+
+def format_chance(p: float) -> str:
+    """Whole percent, with ``>99%`` and ``<1%`` at the ends (a sample never proves certainty)."""
+    if p > 0.99:
+        return ">99%"
+    if p < 0.01:
+        return "<1%"
+    return f"{min(max(round(100 * p), 1), 99)}%"
+
+
+def measure_chance(
+    planner,
+    layout: TableLayout,
+    state: GameState,
+    shot: Shot,
+    noise: GaussianNoise | None = None,
+    samples: int = 200,
+    rng: np.random.Generator | None = None,
+    position_sigma: float = 0.0,
+    position_draws: int = 20,
+    target: int | None = None,
+    aim_point: np.ndarray | tuple[float, float] | None = None,
+) -> Chance:
+    """Replay ``shot`` ``samples`` times under ``noise`` and count legal successes.
+
+    Args:
+        planner: a :class:`~pix2pockets.planner.search.SearchPlanner` (its simulator and success test are used).
+        layout: the table.
+        state: the shooter's group.
+        shot: the planned stroke.
+        noise: execution noise (default: the planner's planning noise).
+        samples: executions drawn.
+        rng: randomness (default: seed 0).
+        position_sigma: Gaussian error per axis of every ball's position [m] (photo location error);
+            the draws are split over ``position_draws`` jittered layouts.
+        position_draws: jittered layouts when ``position_sigma`` > 0.
+        target: index of the object ball the stroke aims at; with ``aim_point`` the player re-aims on each
+            jittered layout (a player aims at the real balls, not at the photo's coordinates).
+        aim_point: where the cue ball is sent on the given layout [m] (the ghost-ball centre); it moves with
+            the target ball and the stroke's direction is taken from the moved cue ball to it.
+    """
+    if samples < 1:
+        raise ValueError(f"samples must be >= 1, got {samples}")
+    if position_sigma < 0:
+        raise ValueError(f"position_sigma must be >= 0, got {position_sigma}")
+    noise = noise if noise is not None else planner.noise
+    rng = rng if rng is not None else np.random.default_rng(0)
+    z = rng.standard_normal((samples, 5))
+    if position_sigma > 0:
+        groups = np.array_split(np.arange(samples), max(1, min(position_draws, samples)))
+        layouts = [_jitter(layout, position_sigma, rng) for _ in groups]
+    else:
+        groups, layouts = [np.arange(samples)], [layout]
+    successes = 0
+    for idx, lay in zip(groups, layouts, strict=True):
+        aimed = _reaim(shot, layout, lay, target, aim_point)
+        shots = [noise.apply(aimed, zk) for zk in z[idx]]
+        rows = np.array([(s.angle, s.speed, s.side, s.height, s.elevation) for s in shots])
+        first, pocket, _ = planner._run(lay, rows)
+        successes += int(np.count_nonzero(planner._success(first, pocket, lay, state)))
+    return Chance(successes, samples, noise.name, position_sigma)
+
+
+def _reaim(shot: Shot, layout: TableLayout, moved: TableLayout, target: int | None, aim_point) -> Shot:
+    """``shot`` aimed on ``moved`` as a player would: the aim point follows the target ball."""
+    if moved is layout or target is None or aim_point is None or layout.cue_index is None:
+        return shot
+    point = np.asarray(aim_point, dtype=float) + (moved.positions[target] - layout.positions[target])
+    d = point - moved.positions[moved.cue_index]
+    if not np.hypot(*d) > 1e-9:
+        return shot
+    return Shot(float(np.arctan2(d[1], d[0])), shot.speed, shot.side, shot.height, shot.elevation)
+
+
+def _jitter(layout: TableLayout, sigma: float, rng: np.random.Generator) -> TableLayout:
+    """The layout with every ball moved by Gaussian noise ``sigma`` per axis [m], kept on the cloth and apart."""
+    spec = layout.spec
+    r = spec.ball_radius
+    pos = layout.positions + rng.normal(0.0, sigma, layout.positions.shape)
+    pos[:, 0] = np.clip(pos[:, 0], r, spec.length - r)
+    pos[:, 1] = np.clip(pos[:, 1], r, spec.width - r)
+    for _ in range(10):  # push overlapping pairs apart (rare at photo-error sizes)
+        d = pos[:, None, :] - pos[None, :, :]
+        dist = np.hypot(d[..., 0], d[..., 1]) + np.eye(len(pos)) * 1e9
+        i, j = np.unravel_index(np.argmin(dist), dist.shape)
+        if dist[i, j] >= 2 * r:
+            break
+        u = d[i, j] / max(dist[i, j], 1e-9)
+        push = 0.5 * (2 * r - dist[i, j]) + 1e-6
+        pos[i] += u * push
+        pos[j] -= u * push
+        pos[:, 0] = np.clip(pos[:, 0], r, spec.length - r)
+        pos[:, 1] = np.clip(pos[:, 1], r, spec.width - r)
+    try:
+        return TableLayout(layout.balls, pos, spec)
+    except ValueError:  # a crowded cluster that would not separate: keep the positions as located
+        return layout

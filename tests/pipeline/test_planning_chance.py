@@ -1,0 +1,61 @@
+"""The pipeline's planning step: skill levels and measured chances with their sample size."""
+
+import json
+
+import numpy as np
+import pytest
+
+from pix2pockets.pipeline.planning import CHANCE_SAMPLES, default_planner, plan_shot
+from pix2pockets.testing import NearestPocketPlanner, example_layout
+
+
+@pytest.fixture(scope="module")
+def layout():
+    return example_layout()
+
+
+@pytest.mark.parametrize("skill", ["pro", "beginner"])
+def test_measured_chance_with_sample_size(layout, skill):
+    planner = default_planner(skill=skill)
+    advice = plan_shot(layout, "solids", planner, np.random.default_rng(0), chance_samples=100)
+    assert planner.noise.name == skill
+    assert advice.chance is not None and advice.chance.samples == 100 and advice.chance.noise == skill
+    assert advice.success_probability == advice.chance.p
+    assert advice.chance_exact_positions is not None and advice.chance_exact_positions.position_sigma == 0.0
+    d = advice.to_dict()
+    json.dumps(d)
+    assert d["success_chance"]["samples"] == 100 and d["success_text"] == advice.chance.text
+    assert d["success_text"] != "100%" and d["success_text"].endswith("%")
+    assert d["success_chance"]["position_sigma_m"] > 0
+
+
+def test_chance_is_deterministic(layout):
+    a = plan_shot(layout, "solids", default_planner(skill="club"), np.random.default_rng(0), chance_samples=80)
+    b = plan_shot(layout, "solids", default_planner(skill="club"), np.random.default_rng(0), chance_samples=80)
+    assert a.chance == b.chance and a.stroke == b.stroke
+
+
+def test_wrapped_planner_is_measured(layout):
+    class Wrapper:  # like the CLI's AfterCompile
+        def __init__(self, planner):
+            self.planner = planner
+
+        def suggest(self, *args, **kwargs):
+            return self.planner.suggest(*args, **kwargs)
+
+    advice = plan_shot(layout, "solids", Wrapper(default_planner()), np.random.default_rng(0), chance_samples=50)
+    assert advice.chance is not None and advice.chance.samples == 50
+
+
+def test_planner_without_simulator_keeps_its_estimate_rounded(layout):
+    advice = plan_shot(layout, "solids", NearestPocketPlanner())
+    assert advice.chance is None
+    d = advice.to_dict()
+    assert d["success_chance"] is None and d["success_text"] == advice.chance_text
+    assert advice.chance_text in (">99%", "<1%") or 1 <= int(advice.chance_text[:-1]) <= 99
+
+
+def test_default_samples_and_bad_skill():
+    assert CHANCE_SAMPLES >= 200
+    with pytest.raises(ValueError, match="unknown noise model"):
+        default_planner(skill="wizard")
