@@ -188,9 +188,10 @@ def estimate_table(
                 return replace(fit, source="diamonds+surface")
             # they disagree: the one explaining more diamonds and balls (ties to the diamonds)
             centres = sure.centres
-            if explained_cues(fit, diamonds, None, centres).total >= explained_cues(
-                surface_fit, diamonds, None, centres
-            ).total:
+            if (
+                explained_cues(fit, diamonds, None, centres).total
+                >= explained_cues(surface_fit, diamonds, None, centres).total
+            ):
                 return fit
         return surface_fit
     if cues == "surface":
