@@ -5,13 +5,24 @@ from fastapi.testclient import TestClient
 
 from pix2pockets.testing import LabelsDetector, NearestPocketPlanner
 from pix2pockets.web.app import create_app
-from pix2pockets.web.worker import SKILLS, Engine, EngineSpec, job_group, split_group
+from pix2pockets.web.worker import SKILLS, TABLES, Engine, EngineSpec, JobOptions
 
 
-@pytest.mark.parametrize("group, skill", [("auto", "pro"), ("solids", "club"), ("stripes", "beginner")])
-def test_group_field_round_trip(group, skill):
-    assert split_group(job_group(group, skill)) == (group, skill)
-    assert job_group("auto") == "auto"
+@pytest.mark.parametrize("options", ["auto", JobOptions("solids", "club", "7ft")])
+def test_job_options_from_a_group_or_given(options):
+    got = JobOptions.of(options)
+    assert got == (JobOptions(group="auto") if options == "auto" else options)
+
+
+def test_page_offers_table_sizes_and_rejects_unknown(rendered):
+    client = TestClient(create_app(LabelsDetector(rendered[1]), NearestPocketPlanner()))
+    assert all(f'value="{t}"' in client.get("/").text for t in TABLES)
+    assert client.get("/api/health").json()["tables"] == list(TABLES)
+    r = client.post("/api/suggest", files={"file": ("t.png", rendered[0], "image/png")}, data={"table": "12ft"})
+    assert r.status_code == 400 and "unknown table" in r.json()["error"]
+    r = client.post("/api/suggest", files={"file": ("t.png", rendered[0], "image/png")}, data={"table": "7ft"})
+    assert r.status_code == 200 and r.json()["table"]["size"]["name"] == "7ft"
+    assert r.json()["table"]["size_source"] == "given"
 
 
 def test_engine_planner_per_skill():

@@ -44,7 +44,7 @@ from pix2pockets import __version__
 from pix2pockets.vision.image_io import MAX_PIXELS
 from pix2pockets.web.jobs import BusyError, Job, JobBoard
 from pix2pockets.web.pool import MAX_WAIT_S, WorkerPool
-from pix2pockets.web.worker import MAX_PICTURE_SIDE, SKILLS, EngineSpec, WebError, job_group, one_line
+from pix2pockets.web.worker import MAX_PICTURE_SIDE, SKILLS, TABLES, EngineSpec, JobOptions, WebError, one_line
 
 if TYPE_CHECKING:  # the app's process stays light: the models and the pipeline live in the workers
     from pix2pockets.pipeline.planning import ShotPlanner
@@ -208,6 +208,7 @@ def create_app(
             "version": __version__,
             "groups": list(GROUPS),
             "skills": list(SKILLS),
+            "tables": list(TABLES),
             "max_upload_bytes": max_upload_bytes,
             "example": example.is_file(),
             **board.stats(),
@@ -235,13 +236,17 @@ def create_app(
                 skill = form.get("skill", "pro")
                 if not isinstance(skill, str) or skill.strip().lower() not in SKILLS:
                     raise WebError(400, f"unknown skill {str(skill)[:40]!r}; choose {', '.join(SKILLS)}")
+                table = form.get("table", "auto")
+                if not isinstance(table, str) or table.strip().lower() not in TABLES:
+                    raise WebError(400, f"unknown table {str(table)[:40]!r}; choose {', '.join(TABLES)}")
                 upload = form.get("file")
                 if not isinstance(upload, UploadFile):
                     raise WebError(400, "no photo uploaded (send it as the multipart file field 'file')")
                 data = await upload.read()
                 name = _upload_name(upload)
             _check_header(data, name, max_pixels)
-            return submit(data, name, job_group(group.strip().lower(), skill.strip().lower()), keep)
+            options = JobOptions(group.strip().lower(), skill.strip().lower(), table.strip().lower())
+            return submit(data, name, options, keep)
 
     @app.post("/api/suggest")
     async def suggest(request: Request) -> JSONResponse:

@@ -22,6 +22,7 @@ from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from dataclasses import dataclass, field
 from enum import StrEnum
+from typing import Any
 
 STAGES = ("load", "detect", "fit", "plan", "draw")
 """Pipeline stages a running job reports, in order: read the photo, find balls and diamonds, fit the table and
@@ -53,7 +54,7 @@ class Job:
     id: str
     data: bytes | None
     name: str
-    group: str
+    options: Any
     keep: bool
     state: JobState = JobState.QUEUED
     stage: str | None = None
@@ -138,7 +139,7 @@ class JobBoard:
     def admit(self) -> Iterator[Callable[..., Job]]:
         """A place on the board for one upload, or :class:`BusyError`.
 
-        Yields ``submit(data, name, group, keep)``, which turns the place into a queued job; leaving the block
+        Yields ``submit(data, name, options, keep)``, which turns the place into a queued job; leaving the block
         without submitting gives the place back (a bad upload, a client that went away).
         """
         with self._lock:
@@ -156,10 +157,10 @@ class JobBoard:
             self._reserved += 1
         placed: list[Job] = []
 
-        def submit(data: bytes, name: str, group: str, keep: bool = False) -> Job:
+        def submit(data: bytes, name: str, options: Any, keep: bool = False) -> Job:
             if placed:
                 raise RuntimeError("this place already holds a job")
-            job = Job(secrets.token_urlsafe(12), data, name, group, keep)
+            job = Job(secrets.token_urlsafe(12), data, name, options, keep)
             with self._lock:
                 self._reserved -= 1
                 placed.append(job)

@@ -77,8 +77,8 @@ class ThreadWorker:
             self.engine.load()
             self.engine.warm_up()
 
-    def run(self, data: bytes, name: str, group: str, report: Report) -> tuple[int, dict]:
-        return self.engine.run(data, name, group, report)
+    def run(self, data: bytes, name: str, options: Any, report: Report) -> tuple[int, dict]:
+        return self.engine.run(data, name, options, report)
 
     def stop(self, timeout: float) -> None:
         """Nothing to stop."""
@@ -144,13 +144,13 @@ class ProcessWorker:
         except WebError as err:  # tried again at the next job
             log.error("worker %d could not be restarted: %s", self.index, err.message)
 
-    def run(self, data: bytes, name: str, group: str, report: Report) -> tuple[int, dict]:
+    def run(self, data: bytes, name: str, options: Any, report: Report) -> tuple[int, dict]:
         if self.process is None or not self.process.is_alive():
             self._restart()
             if self.process is None or not self.process.is_alive():
                 return 503, {"error": "no worker is available; try again later"}
         try:
-            self.conn.send(("job", data, name, group))
+            self.conn.send(("job", data, name, options))
         except (OSError, ValueError):
             self._restart()
             return 500, {"error": "internal error: the worker could not take the photo"}
@@ -201,7 +201,7 @@ def _dispatch(board: JobBoard, worker: ThreadWorker | ProcessWorker) -> None:
             return
         try:
             report = functools.partial(board.stage, job)
-            status, doc = worker.run(job.data or b"", job.name, job.group, report)
+            status, doc = worker.run(job.data or b"", job.name, job.options, report)
         except Exception as err:  # a bug in the pool itself: answer it, keep serving
             log.exception("job %s failed", job.id)
             status, doc = 500, {"error": one_line(f"internal error: {type(err).__name__}: {err}")}

@@ -19,6 +19,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+from pix2pockets.geometry.table import TABLE_PRESETS, table_preset
+
 MAX_PICTURE_SIDE = 2400
 """Longest side of the result picture sent back [px] (bigger pictures are scaled down)."""
 
@@ -115,15 +117,22 @@ SKILLS = ("pro", "club", "beginner")
 """Skill levels the page offers (:data:`pix2pockets.planner.noise.SKILLS`); ``pro`` is the default."""
 
 
-def job_group(group: str, skill: str = "pro") -> str:
-    """The job's group field carrying the skill level too (``solids@club``): the queue passes it through as is."""
-    return group if skill == "pro" else f"{group}@{skill}"
+TABLES = ("auto", *TABLE_PRESETS)
+"""Table sizes the page offers; ``auto`` measures the size from the balls when the table has no diamonds."""
 
 
-def split_group(field: str) -> tuple[str, str]:
-    """``(group, skill)`` from a job's group field (:func:`job_group`)."""
-    group, _, skill = field.partition("@")
-    return group, skill or "pro"
+@dataclass(frozen=True, slots=True)
+class JobOptions:
+    """What the player asked for with a photo: their group, their skill level and the table's size."""
+
+    group: str = "auto"
+    skill: str = "pro"
+    table: str = "auto"
+
+    @classmethod
+    def of(cls, options: JobOptions | str) -> JobOptions:
+        """The options themselves, or the options of a bare group name."""
+        return options if isinstance(options, JobOptions) else cls(group=options)
 
 
 class Engine:
@@ -186,18 +195,18 @@ class Engine:
                 log.info("warm-up on the example photo: %s", one_line(err))
         return time.perf_counter() - t
 
-    def run(self, data: bytes, name: str, group: str, report: Report) -> tuple[int, dict]:
+    def run(self, data: bytes, name: str, options: JobOptions | str, report: Report) -> tuple[int, dict]:
         """The answer to one upload: ``(200, the suggest JSON + picture)`` or ``(4xx/503, {"error": ...})``.
 
         Raises:
             Exception: only for bugs (the caller answers 500).
         """
         try:
-            return 200, self._run(data, name, group, report)
+            return 200, self._run(data, name, JobOptions.of(options), report)
         except WebError as err:
             return err.status, {"error": one_line(err.message)}
 
-    def _run(self, data: bytes, name: str, group: str, report: Report) -> dict:
+    def _run(self, data: bytes, name: str, options: JobOptions, report: Report) -> dict:
         from pix2pockets.pipeline import photo
         from pix2pockets.pipeline.draw import encode_picture, render_result
         from pix2pockets.vision.image_io import decode_image_rgb
@@ -210,10 +219,10 @@ class Engine:
         self.load()
         report("detect")
         detector = _Reporting(self.detector, "detect", after=_Once(report, "fit"))
-        group, skill = split_group(group)
-        planner = _Reporting(self.planner_for(skill), "suggest", before=_Once(report, "plan"))
+        planner = _Reporting(self.planner_for(options.skill), "suggest", before=_Once(report, "plan"))
+        spec = None if options.table == "auto" else table_preset(options.table)
         try:
-            result = photo.suggest(rgb, group=group, detector=detector, planner=planner)
+            result = photo.suggest(rgb, group=options.group, detector=detector, planner=planner, spec=spec)
         except ValueError as err:
             raise WebError(422, str(err)) from None
         report("draw")
