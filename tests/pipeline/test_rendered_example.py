@@ -146,6 +146,7 @@ def test_without_diamonds_the_table_model_finds_the_table_and_its_size():
     xy = aligned(res.layout.positions * SPEC.length / res.spec.length)
     err = np.linalg.norm(xy[:, None] - true_layout().positions[None], axis=-1).min(axis=1)
     assert np.median(err) < 0.02 and err.max() < 0.05  # metres, from the surface alone
-    assert suggest(example_photo_path(), detector=NoDiamondsDetector(), table_model=False).to_dict()["table"][
-        "source"
-    ] == "cloth"
+    assert (
+        suggest(example_photo_path(), detector=NoDiamondsDetector(), table_model=False).to_dict()["table"]["source"]
+        == "cloth"
+    )
