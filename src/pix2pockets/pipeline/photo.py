@@ -29,6 +29,7 @@ from pix2pockets.vision.stages.ball_classifier import NUMBER_PROBS
 from pix2pockets.vision.stages.ball_numbers import BallNumberReader, assign_numbers
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.estimate import estimate_table
+from pix2pockets.vision.table.fit import TableFit
 from pix2pockets.vision.table.keypoints import TableModel
 from pix2pockets.vision.table.rail_height import refine_fit_height
 from pix2pockets.vision.table.surface import SurfaceOutline, surface_outline
@@ -119,6 +120,18 @@ def read_surface(rgb: np.ndarray, det: Detections, table_model: TableModel | boo
         return surface_outline(model.read(rgb), det[det.is_ball].centres)
     except TableFitError:
         return None
+
+
+def fit_evidence(fit: TableFit, surface: SurfaceOutline | None) -> dict[str, int]:
+    """The cues behind a table fit: diamonds matched, and the table model's corners, side pockets and cushion
+    lines when the fit used its surface."""
+    used = surface is not None and "surface" in fit.source
+    return {
+        "diamonds": int(fit.n_matched),
+        "corners": int(surface.from_peak.sum()) if used else 0,
+        "side_pockets": int((surface.side_pocket >= 0.5).sum()) if used else 0,
+        "cushion_lines": int(surface.seen.sum()) if used else 0,
+    }
 
 
 def read_numbers(
@@ -252,4 +265,6 @@ def suggest(
         measured,
         fit.source,
         "given" if given_spec else fit.size_source,
+        float(fit.rms_px) if np.isfinite(fit.rms_px) else None,
+        fit_evidence(fit, surface),
     )

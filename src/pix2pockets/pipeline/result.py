@@ -193,6 +193,9 @@ class Suggestion:
             ``diamonds+surface`` (both, agreeing), ``cloth`` or ``diamonds+cloth``.
         size_source: where the table's size came from: ``given`` (the caller's table), ``balls`` (the balls'
             apparent size), ``diamonds`` or ``default`` (9-foot, nothing measured it).
+        fit_error_px: root-mean-square reprojection error of the points the table was fitted to [px].
+        evidence: the cues behind the fit: ``diamonds`` matched, the table model's ``corners`` and ``side_pockets``
+            and the ``cushion_lines`` seen (0 without a surface).
     """
 
     image_size: tuple[int, int]
@@ -207,6 +210,8 @@ class Suggestion:
     diamond_height_measured: bool = False
     table_source: str = "diamonds"
     size_source: str = "given"
+    fit_error_px: float | None = None
+    evidence: dict = field(default_factory=dict)
 
     @property
     def spec(self) -> TableSpec:
@@ -237,6 +242,8 @@ class Suggestion:
                 },
                 "size_source": self.size_source,
                 "source": self.table_source,
+                "evidence": dict(self.evidence),
+                "fit_error_px": None if self.fit_error_px is None else round(float(self.fit_error_px), 2),
                 "corners_px": [
                     [round(float(v), 2) for v in c] if np.all(np.isfinite(c)) else None for c in self.corners_px
                 ],
