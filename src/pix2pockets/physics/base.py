@@ -45,8 +45,9 @@ class Simulator(Protocol):
     def simulate_batch(
         self, layout: TableLayout, shots: Sequence[Shot], stop: StopAfter = StopAfter.REST
     ) -> list[ShotResult]:
-        """Simulate many candidate shots from one layout (the planner's hot path)."""
-        ...
+        """Simulate many candidate shots from one layout, each from the same start (full results; backends with
+        a faster batch give it as ``simulate_arrays``)."""
+        return [self.simulate(layout, shot, stop) for shot in shots]
 
 
 @dataclass(frozen=True, slots=True)

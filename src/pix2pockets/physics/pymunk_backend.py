@@ -27,13 +27,12 @@ References:
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 import pymunk
 
-from pix2pockets.physics.base import StopAfter, register_simulator
+from pix2pockets.physics.base import Simulator, StopAfter, register_simulator
 from pix2pockets.state import Event, EventType, Shot, ShotResult, TableLayout
 
 _BALL, _CUSHION, _JAW, _POCKET, _WALL = 1, 2, 3, 4, 5
@@ -89,7 +88,7 @@ class _Recorder:
         self.pocketed_any = False
 
 
-class PymunkSimulator:
+class PymunkSimulator(Simulator):
     """Paper-style shot simulation with pymunk (see the module docstring for the model).
 
     Args:
@@ -136,12 +135,6 @@ class PymunkSimulator:
         # An early stop can catch two balls mid-collision (up to one substep of travel apart).
         tol = self.params.settle_tolerance if stop is StopAfter.REST else layout.spec.ball_radius
         return self._result(layout, bodies, rec, tol)
-
-    def simulate_batch(
-        self, layout: TableLayout, shots: Sequence[Shot], stop: StopAfter = StopAfter.REST
-    ) -> list[ShotResult]:
-        """Simulate each shot from the same starting layout."""
-        return [self.simulate(layout, shot, stop) for shot in shots]
 
     # ---------------------------------------------------------------- building
     def _build(self, layout: TableLayout) -> tuple[pymunk.Space, list[pymunk.Body], _Recorder]:

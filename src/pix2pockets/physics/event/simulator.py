@@ -8,7 +8,7 @@ from dataclasses import replace
 import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
-from pix2pockets.physics.base import BatchOutcome, StopAfter
+from pix2pockets.physics.base import BatchOutcome, Simulator, StopAfter
 from pix2pockets.physics.event._engine import (
     STATUS_NOT_FINITE,
     STATUS_OK,
@@ -57,7 +57,7 @@ def pack_table(spec: TableSpec) -> tuple[np.ndarray, ...]:
     return (seg_a, np.ascontiguousarray(seg_u), seg_n, seg_len, pts, pt_jaw, pk_c, pk_r, size)
 
 
-class EventSimulator:
+class EventSimulator(Simulator):
     """Event-based pool physics: exact event times, sliding/rolling/spinning balls, no time step.
 
     Example:
@@ -143,12 +143,6 @@ class EventSimulator:
         columns = (ev_t[:nev].tolist(), ev_k[:nev].tolist(), ev_a[:nev].tolist(), ev_b[:nev].tolist())
         events = [Event(t, _EVENT_TYPES[k], a, b) for t, k, a, b in zip(*columns, strict=True)]
         return ShotResult.from_events(layout, events, pos, validate=False), ev_e[:nev].copy()
-
-    def simulate_batch(
-        self, layout: TableLayout, shots: Sequence[Shot], stop: StopAfter = StopAfter.REST
-    ) -> list[ShotResult]:
-        """Simulate many candidate shots from one layout, with full results."""
-        return [self.simulate(layout, shot, stop) for shot in shots]
 
     def simulate_arrays(
         self, layout: TableLayout, shots: np.ndarray | Sequence[Shot], stop: StopAfter = StopAfter.REST

@@ -7,7 +7,7 @@ from dataclasses import replace
 
 import numpy as np
 
-from pix2pockets.physics.base import BatchOutcome, StopAfter
+from pix2pockets.physics.base import BatchOutcome, Simulator, StopAfter
 from pix2pockets.physics.paper._kernel import STATUS_NOT_FINITE, STATUS_OK, STATUS_TOO_LONG, run_shots
 from pix2pockets.physics.paper.params import PAPER_PX, PaperParams
 from pix2pockets.physics.paper.table import pack_table
@@ -62,7 +62,7 @@ PAPER_MAX_SPEED = paper_level_speed(PAPER_POWER_LEVELS)
 """The paper's top power level [m/s] (500 px/s: the Oracle's "max power")."""
 
 
-class PaperSimulator:
+class PaperSimulator(Simulator):
     """The seed paper's environment dynamics (see :mod:`pix2pockets.physics.paper`).
 
     Tip offsets and elevation of a :class:`~pix2pockets.state.Shot` are ignored: the paper's stroke sets
@@ -144,12 +144,6 @@ class PaperSimulator:
         ev_t, ev_k, ev_a, ev_b = (a[:nev].tolist() for a in ev)
         events = [Event(t, _EVENT_TYPES[k], a, b) for t, k, a, b in zip(ev_t, ev_k, ev_a, ev_b, strict=True)]
         return ShotResult.from_events(layout, events, out[0][0], validate=False)
-
-    def simulate_batch(
-        self, layout: TableLayout, shots: Sequence[Shot], stop: StopAfter = StopAfter.REST
-    ) -> list[ShotResult]:
-        """Simulate each stroke from the same starting layout."""
-        return [self.simulate(layout, shot, stop) for shot in shots]
 
     def simulate_arrays(
         self, layout: TableLayout, shots: np.ndarray | Sequence[Shot], stop: StopAfter = StopAfter.REST
