@@ -124,13 +124,14 @@ def read_surface(rgb: np.ndarray, det: Detections, table_model: TableModel | boo
 
 def fit_evidence(fit: TableFit, surface: SurfaceOutline | None) -> dict[str, int]:
     """The cues behind a table fit: diamonds matched, and the table model's corners, side pockets and cushion
-    lines when the fit used its surface."""
+    lines when the fit used its surface, with the sides moved onto the cloth's edge in the photo."""
     used = surface is not None and "surface" in fit.source
     return {
         "diamonds": int(fit.n_matched),
         "corners": int(surface.from_peak.sum()) if used else 0,
         "side_pockets": int((surface.side_pocket >= 0.5).sum()) if used else 0,
         "cushion_lines": int(surface.seen.sum()) if used else 0,
+        "cloth_edges": int(fit.cloth_edges),
     }
 
 

@@ -195,7 +195,8 @@ class Suggestion:
             apparent size), ``diamonds`` or ``default`` (9-foot, nothing measured it).
         fit_error_px: root-mean-square reprojection error of the points the table was fitted to [px].
         evidence: the cues behind the fit: ``diamonds`` matched, the table model's ``corners`` and ``side_pockets``
-            and the ``cushion_lines`` seen (0 without a surface).
+            and the ``cushion_lines`` seen (0 without a surface), and the ``cloth_edges``: sides of the table's cloth
+            outline moved onto the cloth's edge in the photo.
     """
 
     image_size: tuple[int, int]

@@ -2,7 +2,8 @@
 
 The table model's playing surface (:mod:`pix2pockets.vision.table.keypoints`, outlined by
 :func:`~pix2pockets.vision.table.surface.surface_outline`: corners read to about a pixel, side pockets marking the
-long rails) gives a fit of its own, at the cushion noses on the cloth; where the diamond fit agrees with it (its
+long rails) gives a fit of its own, at the cushion noses on the cloth, which is then moved onto the cloth's edge in
+the photo (:func:`~pix2pockets.vision.table.cloth_edge.snap_fit`); where the diamond fit agrees with it (its
 corners within :data:`CORNER_TOLERANCE`), the diamond fit is kept (``"diamonds+surface"``), else the surface's
 (``"surface"``).
 
@@ -31,6 +32,7 @@ import numpy as np
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.table.cloth import ClothOutline, find_cloth
+from pix2pockets.vision.table.cloth_edge import snap_fit
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.fit import TableFit, diamond_height, fit_table
 from pix2pockets.vision.table.outline_camera import CUSHION_WIDTH, outline_rectangle
@@ -182,6 +184,8 @@ def estimate_table(
             )
         except TableFitError as err:
             reasons.append(f"surface: {_reason(err)}")
+        if surface_fit is not None and rgb is not None:  # onto the cloth's edge in the photo, sharper than the model
+            surface_fit = snap_fit(rgb, surface_fit, surface.mask, sure.boxes)
     if surface_fit is not None:
         for fit in fits:  # a diamond fit on the surface's corners is the sharper of the two
             if _corner_gap(fit, surface_fit) <= CORNER_TOLERANCE * math.hypot(*image_size):

@@ -84,6 +84,8 @@ class TableFit:
         size_source: where the table's size comes from: ``"diamonds"`` (the diamond pattern matched to ``spec``),
             ``"given"`` (passed by the caller), ``"balls"`` (measured from the balls' apparent size) or
             ``"default"`` (9-foot, nothing to measure it by).
+        cloth_edges: sides of the table's cloth outline moved onto the cloth's edge in the photo (0-4;
+            :mod:`pix2pockets.vision.table.cloth_edge`).
     """
 
     spec: TableSpec
@@ -95,6 +97,7 @@ class TableFit:
     diamond_z: float
     source: str = "diamonds"
     size_source: str = "diamonds"
+    cloth_edges: int = 0
 
     def with_diamond_z(self, z: float) -> TableFit:
         """The same fit for diamonds at height ``z`` [m] above the cloth.

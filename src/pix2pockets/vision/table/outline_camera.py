@@ -28,6 +28,7 @@ FOCAL_RANGE = (0.3, 8.0)
 COS_SIGMA = 0.03  # expected error of the cosine between the table's axes seen through the corners
 RATIO_SIGMA = 0.04  # expected error of the log length ratio of the table's axes
 FOCAL_SIGMA = 0.7  # log-normal prior on the focal length around the larger image side
+MAX_CONDITION = 1e4  # condition number above which an outline does not fix both focal lengths
 
 
 def outline_rectangle(spec: TableSpec, offset: float = CUSHION_WIDTH) -> np.ndarray:
@@ -129,6 +130,51 @@ def refined(camera: PinholeCamera, world3: np.ndarray, image: np.ndarray, focal_
         return camera
     f = math.exp(sol.x[0])
     return PinholeCamera(intrinsics(f, (w, h)), cv2.Rodrigues(sol.x[1:4])[0], sol.x[4:7].copy(), (w, h))
+
+
+def camera_through_outline(
+    corners_px: np.ndarray,
+    image_size: tuple[int, int],
+    spec: TableSpec,
+    offset: float = CUSHION_WIDTH,
+    plane_z: float | None = None,
+    max_stretch: float = 1.6,
+) -> PinholeCamera | None:
+    """The camera that sees the outline of ``spec`` exactly at ``corners_px`` (4, 2) [px, table corner order].
+
+    Four corners fix the plane homography; with the principal point at the image centre the two conditions on a
+    rotation (the back-projected plane axes orthogonal and of equal length) fix the focal lengths along x and y, so
+    the pixels may be stretched (photos squashed by an export). ``None`` when they do not fix them (a view square-on
+    or without roll about the optical axis) or have no real solution, the stretch exceeds ``max_stretch`` or the
+    camera is not above the table."""
+    w, h = image_size
+    world = outline_rectangle(spec, offset)
+    try:
+        H = fit_homography(world, np.asarray(corners_px, dtype=float))
+    except ValueError:
+        return None
+    Hc = np.array([[1.0, 0.0, -w / 2], [0.0, 1.0, -h / 2], [0.0, 0.0, 1.0]]) @ H
+    h1, h2 = Hc[:, 0], Hc[:, 1]
+    # a = 1 / fx^2, b = 1 / fy^2: a h1x h2x + b h1y h2y + h1z h2z = 0 and |h1|^2 = |h2|^2 after K^-1
+    A = np.array([[h1[0] * h2[0], h1[1] * h2[1]], [h1[0] ** 2 - h2[0] ** 2, h1[1] ** 2 - h2[1] ** 2]])
+    rhs = -np.array([h1[2] * h2[2], h1[2] ** 2 - h2[2] ** 2])
+    scale = np.linalg.norm(np.column_stack([A, rhs]), axis=1, keepdims=True)
+    if not np.all(scale > 0) or np.linalg.cond(A / scale) > MAX_CONDITION:
+        return None  # e.g. no roll about the optical axis: a stretch along x is then a turn of the table
+    a, b = np.linalg.solve(A, rhs)
+    if not (a > 0 and b > 0):
+        return None
+    fx, fy = 1.0 / math.sqrt(a), 1.0 / math.sqrt(b)
+    side = max(w, h)
+    if not (1.0 / max_stretch <= fx / fy <= max_stretch and FOCAL_RANGE[0] * side <= fy <= FOCAL_RANGE[1] * side):
+        return None
+    K = np.array([[fx, 0.0, w / 2], [0.0, fy, h / 2], [0.0, 0.0, 1.0]])
+    z = spec.cushion_height if plane_z is None else plane_z
+    R, t = pose_from_homography(H, K, z, spec.size / 2)
+    camera = PinholeCamera(K, R, t, (int(w), int(h)))
+    if camera.position[2] < spec.cushion_height + 0.2:
+        return None
+    return camera
 
 
 def camera_from_outline(

@@ -1,0 +1,112 @@
+"""Table fits on renders of tables without sights, through the shipped models (no diamonds to fit to).
+
+Each render (:func:`pix2pockets.synth.renderer.render`, every camera kind, build, cloth and clutter the renderer
+draws) whose rails carry no sights goes through the pipeline's own steps: the bundled detector, post-processing, the
+table model and ``estimate_table`` (table size from the balls). The fitted playing-surface corners (on the cloth) are
+compared with the render's exact ones, either way round the table; a corner's error is divided by the table's length
+in the photo (the true outline's longer pair of opposite sides). Only corners within the frame count.
+
+Usage:
+    PYTHONPATH=src python benchmarks/rendered_surface_fit.py --n 100 [--seed 5000] [--size 960x540]
+        [--with-sights] [--json OUT.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import time
+from collections import defaultdict
+from pathlib import Path
+
+import numpy as np
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+from pix2pockets.pipeline.photo import clean_detections, default_detector, read_surface
+from pix2pockets.vision.table.estimate import estimate_table
+from pix2pockets.vision.table.fit import TableFitError
+
+
+def length_px(corners: np.ndarray) -> float:
+    """The table's length in the photo [px]: the larger mean length of the outline's two pairs of opposite sides."""
+    sides = np.linalg.norm(np.roll(corners, -1, axis=0) - corners, axis=1)
+    return float(max(sides[0] + sides[2], sides[1] + sides[3]) / 2)
+
+
+def main(argv: list[str] | None = None) -> int:
+    from pix2pockets.synth.renderer import render
+
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--n", type=int, default=100, help="renders to fit")
+    ap.add_argument("--seed", type=int, default=5000, help="first render seed")
+    ap.add_argument("--size", default="960x540")
+    ap.add_argument("--with-sights", action="store_true", help="fit renders with sights too (the table model alone)")
+    ap.add_argument("--json")
+    args = ap.parse_args(argv)
+    size = tuple(int(v) for v in args.size.lower().split("x"))
+    detector = default_detector()
+    rows, seconds = [], []
+    seed = args.seed
+    while len(rows) < args.n:
+        out = render(seed, size)
+        seed += 1
+        labels = out.labels
+        if labels["style"]["sights"] != "none" and not args.with_sights:
+            continue
+        truth = np.array([c["px_cloth"] or [np.nan, np.nan] for c in labels["corners"]], dtype=float)
+        w, h = labels["image_size"]
+        if not np.all(np.isfinite(truth)):
+            continue
+        inside = (truth[:, 0] >= 0) & (truth[:, 0] <= w) & (truth[:, 1] >= 0) & (truth[:, 1] <= h)
+        row = {"seed": seed - 1, "build": labels["style"]["build"], "corners_in_frame": int(inside.sum())}
+        t = time.perf_counter()
+        det = clean_detections(detector.detect(out.image))
+        try:
+            surface = read_surface(out.image, det, True)
+            fit = estimate_table(out.image, det, (w, h), pixel_aspect=det.pixel_aspect, surface=surface)
+        except TableFitError as err:
+            row.update(fit=False, error=str(err).split(":")[0])
+            rows.append(row)
+            continue
+        seconds.append(time.perf_counter() - t)
+        fitted = fit.corners_px
+        errors = min(
+            (np.linalg.norm(np.roll(fitted, r, axis=0) - truth, axis=1) for r in (0, 2)),
+            key=lambda e: float(np.nanmax(np.where(inside, e, 0.0))),
+        )
+        rel = errors / length_px(truth)
+        row.update(fit=True, source=fit.source, errors=[round(float(e), 5) for e in rel[inside]])
+        rows.append(row)
+
+    fits = [r for r in rows if r["fit"]]
+    errors = np.array([e for r in fits for e in r["errors"]])
+    by_build: dict[str, list[float]] = defaultdict(list)
+    for r in fits:
+        by_build[r["build"]].extend(r["errors"])
+    summary = {
+        "renders": len(rows),
+        "fitted": len(fits),
+        "with_sights": args.with_sights,
+        "corner_error_median": float(np.median(errors)) if len(errors) else None,
+        "corner_error_p90": float(np.percentile(errors, 90)) if len(errors) else None,
+        "right_2pct": sum(bool(r["errors"]) and max(r["errors"]) <= 0.02 for r in fits),
+        "fit_seconds_median": float(np.median(seconds)) if seconds else None,
+        "by_build": {b: float(np.median(v)) for b, v in sorted(by_build.items())},
+    }
+    print(f"{'renders':<36} {summary['renders']}")
+    print(f"{'fitted':<36} {summary['fitted']} ({summary['fitted'] / max(len(rows), 1):.0%})")
+    if len(errors):
+        print(f"{'corner error, median / 90th pct':<36} {summary['corner_error_median']:.2%} / "
+              f"{summary['corner_error_p90']:.2%} of the table length")  # fmt: skip
+        print(f"{'all corners within 2 %':<36} {summary['right_2pct']}")
+    for build, median in summary["by_build"].items():
+        print(f"  {build:<12} median {median:.2%}")
+    if args.json:
+        Path(args.json).write_text(json.dumps({**summary, "rows": rows}, indent=1) + "\n")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

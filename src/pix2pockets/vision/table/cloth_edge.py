@@ -1,0 +1,243 @@
+"""Move a fitted table's cloth outline onto the cloth's edge in the photo.
+
+The table model reads the playing surface on a coarse grid and was trained on renders; on real photos its corners can
+be several pixels off. The cloth's outer edge, where the cushion cloth meets the rail, is usually the sharpest line
+around a table. :func:`snap_to_cloth_edge` searches each side of an outline along its normal for the steepest change
+away from the cloth's colour, fits a robust line to the edge points and keeps the new line only where it separates
+cloth from non-cloth better than the old one (a player's arm, a ball or the rail's outer edge do not).
+
+Example:
+    >>> colour = cloth_colour(rgb, surface.mask, ball_boxes)  # doctest: +SKIP
+    >>> snapped = snap_to_cloth_edge(rgb, outline_px, colour, reach=12.0)  # doctest: +SKIP
+    >>> snapped.corners_px, snapped.moved  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+
+import cv2
+import numpy as np
+from scipy.optimize import least_squares
+
+from pix2pockets.geometry.camera import PinholeCamera
+from pix2pockets.geometry.table import TableSpec
+from pix2pockets.vision.table.cloth_region import lab_of, spreads
+from pix2pockets.vision.table.fit import TableFit
+from pix2pockets.vision.table.outline_camera import (
+    CUSHION_WIDTH,
+    camera_through_outline,
+    head_rail_convention,
+    outline_rectangle,
+)
+from pix2pockets.vision.table.quad_geometry import line_through, quad_of_lines, robust_line
+
+SAMPLES = 48
+"""Profiles searched along each side."""
+MIN_INLIER_SHARE = 0.35
+"""Share of a side's profiles whose edge must lie on the new line."""
+MAX_TURN_DEG = 4.0
+"""Largest turn of a side [deg]."""
+CONTRAST_STEP = 1.5
+"""Contrast across a line is read this many pixels either side of it."""
+MIN_GAIN = 0.15
+"""A new line must separate cloth from rail by this much more than the old (colour-distance units)."""
+FIRST_REACH = 0.05
+"""The first search reaches this share of the table's length in the photo either side of each side ..."""
+MIN_REACH_PX = 6.0
+"""... and at least this far [px]; a second search reaches :data:`SECOND_REACH_PX`."""
+SECOND_REACH_PX = 4.0
+
+
+@dataclass(frozen=True, slots=True)
+class SnappedOutline:
+    """An outline moved onto the cloth's edge.
+
+    Attributes:
+        corners_px: (4, 2) the new corners [px], in the order given; side ``k`` runs from corner ``k`` to ``k + 1``.
+        moved: (4,) whether each side was moved onto an edge.
+        contrast: (4,) the colour contrast across each final side (distance from the cloth's colour outside minus
+            inside, median along the side).
+    """
+
+    corners_px: np.ndarray
+    moved: np.ndarray
+    contrast: np.ndarray
+
+
+def cloth_colour(rgb: np.ndarray, mask: np.ndarray, ball_boxes: np.ndarray | None = None) -> np.ndarray:
+    """The cloth's colour, CIE Lab: the median over ``mask`` (H, W) bool shrunk by 2 px, balls left out."""
+    inside = cv2.erode(mask.astype(np.uint8), np.ones((5, 5), np.uint8)).astype(bool)
+    h, w = inside.shape
+    for x1, y1, x2, y2 in np.asarray(ball_boxes if ball_boxes is not None else np.zeros((0, 4))).reshape(-1, 4):
+        inside[max(int(y1), 0) : min(math.ceil(y2), h), max(int(x1), 0) : min(math.ceil(x2), w)] = False
+    if inside.sum() < 20:
+        inside = mask.astype(bool)
+    return np.median(lab_of(rgb[inside][None]).reshape(-1, 3), axis=0)
+
+
+def _distance(rgb: np.ndarray, pts: np.ndarray, colour: np.ndarray) -> np.ndarray:
+    """Distance from the cloth's colour (in its tolerance steps) of the photo sampled at ``pts`` (..., 2) [pixel
+    indices]; points off the photo read as far."""
+    h, w = rgb.shape[:2]
+    flat = pts.reshape(-1, 1, 2).astype(np.float32)
+    samples = cv2.remap(rgb, flat[..., 0], flat[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    lab = lab_of(samples).reshape(-1, 3)
+    l_spread, c_spread = spreads(colour)
+    d = np.sqrt(
+        ((lab[:, 0] - colour[0]) / l_spread) ** 2
+        + ((lab[:, 1] - colour[1]) / c_spread) ** 2
+        + ((lab[:, 2] - colour[2]) / c_spread) ** 2
+    ).reshape(pts.shape[:-1])
+    off = (pts[..., 0] < 0) | (pts[..., 0] > w - 1) | (pts[..., 1] < 0) | (pts[..., 1] > h - 1)
+    return np.where(off, np.nan, d)
+
+
+def _along(a: np.ndarray, b: np.ndarray, line: np.ndarray) -> np.ndarray:
+    """Points (SAMPLES, 2) spread over the middle of side ``a``-``b``, on ``line``."""
+    t = np.linspace(0.1, 0.9, SAMPLES)
+    base = a[None] + t[:, None] * (b - a)[None]
+    return base - (base @ line[:2] + line[2])[:, None] * line[:2][None]
+
+
+def line_contrast(rgb: np.ndarray, line: np.ndarray, a: np.ndarray, b: np.ndarray, colour: np.ndarray) -> float:
+    """How sharply ``line`` (a, b, c), normal pointing out of the cloth, separates cloth from non-cloth between
+    ``a`` and ``b``: the median over the side of the colour distance just outside minus just inside."""
+    base = _along(a, b, line)
+    outside = _distance(rgb, base + CONTRAST_STEP * line[:2], colour)
+    inside = _distance(rgb, base - CONTRAST_STEP * line[:2], colour)
+    diff = outside - inside
+    diff = diff[np.isfinite(diff)]
+    return float(np.median(diff)) if len(diff) >= SAMPLES // 4 else -math.inf
+
+
+def snap_to_cloth_edge(
+    rgb: np.ndarray, corners_px: np.ndarray, colour: np.ndarray, reach: float, sides: np.ndarray | None = None
+) -> SnappedOutline:
+    """Move each side of an outline onto the cloth's edge.
+
+    Args:
+        rgb: the photo, RGB uint8 (H, W, 3).
+        corners_px: (4, 2) the outline's corners [px, image coordinates: origin at the top-left pixel's corner], in
+            order around it.
+        colour: the cloth's colour, CIE Lab (:func:`cloth_colour`).
+        reach: how far either side of each side the edge is searched [px].
+        sides: (4,) bool, the sides that may move (default all).
+
+    Returns:
+        The outline with each side that found a sharper edge moved onto it.
+    """
+    quad = np.asarray(corners_px, dtype=float).reshape(4, 2) - 0.5  # to pixel indices
+    movable = np.ones(4, dtype=bool) if sides is None else np.asarray(sides, dtype=bool)
+    centre = quad.mean(axis=0)
+    lines = np.array([line_through(quad[k], quad[(k + 1) % 4]) for k in range(4)])
+    for k in range(4):  # normals out of the cloth
+        if centre @ lines[k, :2] + lines[k, 2] > 0:
+            lines[k] = -lines[k]
+    offsets = np.arange(-math.ceil(reach), math.ceil(reach) + 1, dtype=float)
+    moved = np.zeros(4, dtype=bool)
+    contrast = np.zeros(4)
+    new_lines = lines.copy()
+    for k in range(4):
+        a, b = quad[k], quad[(k + 1) % 4]
+        line = lines[k]
+        contrast[k] = line_contrast(rgb, line, a, b, colour)
+        if not movable[k]:
+            continue
+        base = _along(a, b, line)
+        pts = base[:, None, :] + offsets[None, :, None] * line[:2][None, None, :]
+        dist = _distance(rgb, pts, colour)
+        usable = np.isfinite(dist).all(axis=1)
+        if usable.sum() < SAMPLES // 4:
+            continue
+        dist = cv2.GaussianBlur(dist[usable].astype(np.float32), (3, 1), 0)  # smooth along each profile
+        grad = np.diff(dist, axis=1)  # the edge: the steepest rise of the distance outward
+        j = np.argmax(grad, axis=1)
+        rows = np.arange(len(j))
+        strong = grad[rows, j] > 0.25
+        edge = pts[usable][rows, j] + 0.5 * (pts[usable][rows, j + 1] - pts[usable][rows, j])
+        fitted = robust_line(edge[strong], 1.5)
+        if fitted is None:
+            continue
+        new, inliers = fitted
+        if inliers.sum() < MIN_INLIER_SHARE * SAMPLES or abs(new[:2] @ line[:2]) < math.cos(math.radians(MAX_TURN_DEG)):
+            continue
+        new = new if new[:2] @ line[:2] > 0 else -new
+        gained = line_contrast(rgb, new, a, b, colour)
+        if gained >= contrast[k] + MIN_GAIN:
+            new_lines[k], moved[k], contrast[k] = new, True, gained
+    corners = quad_of_lines(np.array([new_lines[k] for k in range(4)])) + 0.5
+    if not np.all(np.isfinite(corners)):
+        return SnappedOutline(np.asarray(corners_px, dtype=float).reshape(4, 2), np.zeros(4, dtype=bool), contrast)
+    return SnappedOutline(corners, moved, contrast)
+
+
+def _length_px(corners: np.ndarray) -> float:
+    """The larger mean length of a quadrilateral's two pairs of opposite sides [px]."""
+    sides = np.linalg.norm(np.roll(corners, -1, axis=0) - corners, axis=1)
+    return float(max(sides[0] + sides[2], sides[1] + sides[3]) / 2)
+
+
+def snap_fit(rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.ndarray | None = None) -> TableFit:
+    """A table fit moved onto the cloth's edge in the photo.
+
+    The fit's cloth outline (the playing surface grown by :data:`CUSHION_WIDTH`, at cushion height) is snapped to
+    the cloth's edge (:func:`snap_to_cloth_edge`, twice: a wide search, then a close one); sides cut by the frame
+    stay. The camera is then the one that sees the snapped outline exactly
+    (:func:`~pix2pockets.vision.table.outline_camera.camera_through_outline`), else the fit's camera moved to see
+    it as closely as its pixel stretch allows (least squares on the four corners), else the fit is returned as it
+    was.
+
+    Args:
+        rgb: the photo, RGB uint8 (H, W, 3).
+        fit: the table fit to move (its cloth outline must lie in front of the camera).
+        mask: the cloth region (H, W) bool the colour is read from (the table model's surface).
+        ball_boxes: ball boxes (n, 4) [px], left out of the colour.
+    """
+    spec = fit.spec
+    outline = fit.camera.project_table(outline_rectangle(spec, CUSHION_WIDTH), spec.cushion_height)
+    if not np.all(np.isfinite(outline)):
+        return fit
+    w, h = fit.camera.image_size
+    inside = (outline[:, 0] >= 0) & (outline[:, 0] <= w) & (outline[:, 1] >= 0) & (outline[:, 1] <= h)
+    sides = inside & np.roll(inside, -1)  # side k runs from corner k to k + 1: both ends in the photo
+    if not sides.any():
+        return fit
+    colour = cloth_colour(rgb, mask, ball_boxes)
+    first = snap_to_cloth_edge(rgb, outline, colour, max(MIN_REACH_PX, FIRST_REACH * _length_px(outline)), sides)
+    second = snap_to_cloth_edge(rgb, first.corners_px, colour, SECOND_REACH_PX, sides)
+    moved = int((first.moved | second.moved).sum())
+    if not moved:
+        return fit
+    corners = second.corners_px
+    camera = camera_through_outline(corners, (w, h), spec) or _camera_near(fit.camera, spec, corners)
+    if camera is None:
+        return fit
+    return replace(fit, camera=head_rail_convention(camera, spec), cloth_edges=moved)
+
+
+def _camera_near(camera: PinholeCamera, spec: TableSpec, corners: np.ndarray) -> PinholeCamera | None:
+    """``camera`` moved to see the cloth outline of ``spec`` at ``corners`` (4, 2) [px] as closely as it can: focal
+    length, rotation and translation by least squares, its pixel stretch and principal point kept."""
+    world = np.column_stack([outline_rectangle(spec, CUSHION_WIDTH), np.full(4, spec.cushion_height)])
+    K = camera.K
+    stretch = K[0, 0] / K[1, 1]
+
+    def residuals(p: np.ndarray) -> np.ndarray:
+        cam = world @ cv2.Rodrigues(p[1:4])[0].T + p[4:7]
+        f = math.exp(p[0])
+        u = cam[:, 0] / cam[:, 2] * f * stretch + K[0, 2]
+        v = cam[:, 1] / cam[:, 2] * f + K[1, 2]
+        return np.concatenate([u - corners[:, 0], v - corners[:, 1]])
+
+    p0 = np.concatenate([[math.log(K[1, 1])], cv2.Rodrigues(camera.R)[0].ravel(), camera.t])
+    sol = least_squares(residuals, p0, method="lm", x_scale="jac", max_nfev=200)
+    if not np.all(np.isfinite(sol.x)):
+        return None
+    f = math.exp(sol.x[0])
+    new_K = np.array([[f * stretch, 0.0, K[0, 2]], [0.0, f, K[1, 2]], [0.0, 0.0, 1.0]])
+    found = PinholeCamera(new_K, cv2.Rodrigues(sol.x[1:4])[0], sol.x[4:7].copy(), camera.image_size)
+    if found.position[2] < spec.cushion_height + 0.2 or np.abs(residuals(sol.x)).max() > 0.05 * _length_px(corners):
+        return None
+    return found

@@ -1,0 +1,115 @@
+"""Snapping a table's cloth outline onto the cloth's edge, and the camera through an exact outline."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import cv2
+import numpy as np
+
+from pix2pockets.geometry import PinholeCamera, TableSpec
+from pix2pockets.vision.detect.analytic import standard_views
+from pix2pockets.vision.table.cloth_edge import cloth_colour, snap_fit, snap_to_cloth_edge
+from pix2pockets.vision.table.outline_camera import camera_through_outline, outline_rectangle
+from pix2pockets.vision.table.outline_fit import fit_outline
+from tests.vision.table.test_cloth import corner_error, draw_table_photo, view
+
+SPEC = TableSpec()
+
+
+def true_outline(camera: PinholeCamera) -> np.ndarray:
+    return camera.project_table(outline_rectangle(SPEC), SPEC.cushion_height)
+
+
+def grown(corners: np.ndarray, factor: float) -> np.ndarray:
+    centre = corners.mean(axis=0)
+    return centre + factor * (corners - centre)
+
+
+def region(corners: np.ndarray, size: tuple[int, int]) -> np.ndarray:
+    mask = np.zeros((size[1], size[0]), np.uint8)
+    cv2.fillPoly(mask, [np.round(corners - 0.5).astype(np.int32)], 1)
+    return mask.astype(bool)
+
+
+def test_a_grown_outline_moves_back_onto_the_cloth_edge():
+    camera = view("oblique")
+    img, boxes = draw_table_photo(camera)
+    truth = true_outline(camera)
+    start = grown(truth, 1.04)
+    assert corner_error(start, truth) > 4.0
+    colour = cloth_colour(img, region(grown(truth, 0.9), camera.image_size), boxes)
+    snapped = snap_to_cloth_edge(img, start, colour, reach=12.0)
+    assert snapped.moved.sum() >= 3  # the player hides much of one rail
+    assert corner_error(snapped.corners_px, truth) < 1.5
+
+
+def test_a_side_that_may_not_move_stays():
+    camera = view("oblique")
+    img, boxes = draw_table_photo(camera, player=False)
+    truth = true_outline(camera)
+    start = grown(truth, 1.03)
+    colour = cloth_colour(img, region(grown(truth, 0.9), camera.image_size), boxes)
+    snapped = snap_to_cloth_edge(img, start, colour, reach=12.0, sides=np.array([True, False, True, True]))
+    assert not snapped.moved[1] and snapped.moved[[0, 2, 3]].all()
+    # side 1 (corner 1 -> 2) still lies on the line it started on
+    a, b = start[1], start[2]
+    normal = np.array([b[1] - a[1], a[0] - b[0]]) / np.linalg.norm(b - a)
+    assert np.abs((snapped.corners_px[[1, 2]] - a) @ normal).max() < 1e-6
+
+
+def test_an_edge_that_separates_nothing_is_not_taken():
+    camera = view("oblique")
+    img, boxes = draw_table_photo(camera, player=False)
+    truth = true_outline(camera)
+    flat = np.full_like(img, 90)  # no cloth anywhere: no side finds an edge better than it had
+    colour = cloth_colour(img, region(grown(truth, 0.9), camera.image_size), boxes)
+    snapped = snap_to_cloth_edge(flat, truth, colour, reach=12.0)
+    assert not snapped.moved.any()
+    assert np.allclose(snapped.corners_px, truth)
+
+
+def test_snap_fit_sharpens_a_fit_that_is_a_few_pixels_off():
+    camera = view("oblique")
+    img, boxes = draw_table_photo(camera)
+    truth = true_outline(camera)
+    rough = fit_outline(grown(truth, 1.03), camera.image_size, SPEC, ball_boxes=boxes)
+    off = rough.camera.project_table(outline_rectangle(SPEC), SPEC.cushion_height)
+    assert corner_error(off, truth) > 3.0
+    mask = region(grown(truth, 0.9), camera.image_size)
+    sharp = snap_fit(img, rough, mask, boxes)
+    assert sharp.cloth_edges >= 3 and sharp.spec is rough.spec
+    assert corner_error(sharp.camera.project_table(outline_rectangle(SPEC), SPEC.cushion_height), truth) < 1.5
+    # a fit already on the edge stays where it is
+    again = snap_fit(img, replace(sharp, cloth_edges=0), mask, boxes)
+    assert corner_error(again.corners_px, sharp.corners_px) < 0.5
+
+
+def rolled(camera: PinholeCamera, degrees: float) -> PinholeCamera:
+    """The camera turned about its optical axis."""
+    a = np.radians(degrees)
+    turn = np.array([[np.cos(a), -np.sin(a), 0.0], [np.sin(a), np.cos(a), 0.0], [0.0, 0.0, 1.0]])
+    return PinholeCamera(camera.K, turn @ camera.R, turn @ camera.t, camera.image_size)
+
+
+def test_camera_through_an_outline_sees_it_exactly_with_stretched_pixels():
+    camera = rolled(view("oblique"), 12.0)
+    K = camera.K.copy()
+    K[0, 0] *= 0.75  # an export squashed the photo's width
+    stretched = PinholeCamera(K, camera.R, camera.t, camera.image_size)
+    corners = true_outline(stretched)
+    found = camera_through_outline(corners, stretched.image_size, SPEC)
+    assert found is not None
+    assert np.abs(true_outline(found) - corners).max() < 1e-6
+    assert abs(found.K[0, 0] / found.K[1, 1] - 0.75) < 1e-6
+    assert np.allclose(found.position, stretched.position, atol=1e-6)
+    # the balls' plane follows: a point above the cloth lands where the true camera puts it
+    p = np.array([1.1, 0.4, SPEC.ball_radius])
+    assert np.abs(found.project(p) - stretched.project(p)).max() < 1e-6
+
+
+def test_camera_through_an_outline_that_does_not_fix_both_focal_lengths_is_refused():
+    top = standard_views(SPEC)["top"]  # square-on: no focal length at all
+    assert camera_through_outline(true_outline(top), top.image_size, SPEC) is None
+    level = view("oblique")  # no roll: a stretch along x looks like a turn of the table
+    assert camera_through_outline(true_outline(level), level.image_size, SPEC) is None
