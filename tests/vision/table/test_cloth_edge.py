@@ -44,6 +44,15 @@ def test_a_grown_outline_moves_back_onto_the_cloth_edge():
     assert corner_error(snapped.corners_px, truth) < 1.5
 
 
+def test_a_reach_beyond_the_photo_is_cut_to_a_share_of_it():
+    camera = view("oblique")
+    img, boxes = draw_table_photo(camera, player=False)
+    truth = true_outline(camera)
+    colour = cloth_colour(img, region(grown(truth, 0.9), camera.image_size), boxes)
+    snapped = snap_to_cloth_edge(img, grown(truth, 1.03), colour, reach=1e6)
+    assert corner_error(snapped.corners_px, truth) < 1.5
+
+
 def test_a_side_that_may_not_move_stays():
     camera = view("oblique")
     img, boxes = draw_table_photo(camera, player=False)

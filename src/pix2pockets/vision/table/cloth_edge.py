@@ -48,6 +48,8 @@ FIRST_REACH = 0.05
 MIN_REACH_PX = 6.0
 """... and at least this far [px]; a second search reaches :data:`SECOND_REACH_PX`."""
 SECOND_REACH_PX = 4.0
+MAX_REACH = 0.05
+"""The search never reaches further than this share of the image diagonal."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -122,7 +124,8 @@ def snap_to_cloth_edge(
         corners_px: (4, 2) the outline's corners [px, image coordinates: origin at the top-left pixel's corner], in
             order around it.
         colour: the cloth's colour, CIE Lab (:func:`cloth_colour`).
-        reach: how far either side of each side the edge is searched [px].
+        reach: how far either side of each side the edge is searched [px] (at most :data:`MAX_REACH` of the
+            image diagonal).
         sides: (4,) bool, the sides that may move (default all).
 
     Returns:
@@ -135,6 +138,7 @@ def snap_to_cloth_edge(
     for k in range(4):  # normals out of the cloth
         if centre @ lines[k, :2] + lines[k, 2] > 0:
             lines[k] = -lines[k]
+    reach = min(reach, MAX_REACH * math.hypot(rgb.shape[1], rgb.shape[0]))
     offsets = np.arange(-math.ceil(reach), math.ceil(reach) + 1, dtype=float)
     moved = np.zeros(4, dtype=bool)
     contrast = np.zeros(4)
@@ -205,7 +209,8 @@ def snap_fit(rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.nd
     if not sides.any():
         return fit
     colour = cloth_colour(rgb, mask, ball_boxes)
-    first = snap_to_cloth_edge(rgb, outline, colour, max(MIN_REACH_PX, FIRST_REACH * _length_px(outline)), sides)
+    reach = min(max(MIN_REACH_PX, FIRST_REACH * _length_px(outline)), MAX_REACH * math.hypot(w, h))
+    first = snap_to_cloth_edge(rgb, outline, colour, reach, sides)
     second = snap_to_cloth_edge(rgb, first.corners_px, colour, SECOND_REACH_PX, sides)
     moved = int((first.moved | second.moved).sum())
     if not moved:
