@@ -50,6 +50,9 @@ MIN_REACH_PX = 6.0
 SECOND_REACH_PX = 4.0
 MAX_REACH = 0.05
 """The search never reaches further than this share of the image diagonal."""
+CENTRE_SIGMA = 0.1
+"""Spread of the principal point about the image centre, as a share of the image size, when a camera is moved onto
+snapped corners."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -223,26 +226,31 @@ def snap_fit(rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.nd
 
 
 def _camera_near(camera: PinholeCamera, spec: TableSpec, corners: np.ndarray) -> PinholeCamera | None:
-    """``camera`` moved to see the cloth outline of ``spec`` at ``corners`` (4, 2) [px] as closely as it can: focal
-    length, rotation and translation by least squares, its pixel stretch and principal point kept."""
+    """``camera`` moved to see the cloth outline of ``spec`` at ``corners`` (4, 2) [px]: focal length, principal
+    point, rotation and translation by least squares, its pixel stretch kept. The principal point is held near
+    the image centre by a weak prior (:data:`CENTRE_SIGMA` of the image size), so the four corners are met where a
+    camera with square-on optics cannot (lens distortion, a cropped photo)."""
     world = np.column_stack([outline_rectangle(spec, CUSHION_WIDTH), np.full(4, spec.cushion_height)])
     K = camera.K
     stretch = K[0, 0] / K[1, 1]
+    w, h = camera.image_size
 
     def residuals(p: np.ndarray) -> np.ndarray:
         cam = world @ cv2.Rodrigues(p[1:4])[0].T + p[4:7]
         f = math.exp(p[0])
-        u = cam[:, 0] / cam[:, 2] * f * stretch + K[0, 2]
-        v = cam[:, 1] / cam[:, 2] * f + K[1, 2]
-        return np.concatenate([u - corners[:, 0], v - corners[:, 1]])
+        u = cam[:, 0] / cam[:, 2] * f * stretch + p[7]
+        v = cam[:, 1] / cam[:, 2] * f + p[8]
+        prior = [(p[7] - K[0, 2]) / (CENTRE_SIGMA * w), (p[8] - K[1, 2]) / (CENTRE_SIGMA * h)]
+        return np.concatenate([u - corners[:, 0], v - corners[:, 1], prior])
 
-    p0 = np.concatenate([[math.log(K[1, 1])], cv2.Rodrigues(camera.R)[0].ravel(), camera.t])
-    sol = least_squares(residuals, p0, method="lm", x_scale="jac", max_nfev=200)
+    p0 = np.concatenate([[math.log(K[1, 1])], cv2.Rodrigues(camera.R)[0].ravel(), camera.t, K[:2, 2]])
+    sol = least_squares(residuals, p0, method="lm", x_scale="jac", max_nfev=400)
     if not np.all(np.isfinite(sol.x)):
         return None
     f = math.exp(sol.x[0])
-    new_K = np.array([[f * stretch, 0.0, K[0, 2]], [0.0, f, K[1, 2]], [0.0, 0.0, 1.0]])
+    new_K = np.array([[f * stretch, 0.0, sol.x[7]], [0.0, f, sol.x[8]], [0.0, 0.0, 1.0]])
     found = PinholeCamera(new_K, cv2.Rodrigues(sol.x[1:4])[0], sol.x[4:7].copy(), camera.image_size)
-    if found.position[2] < spec.cushion_height + 0.2 or np.abs(residuals(sol.x)).max() > 0.05 * _length_px(corners):
+    misfit = np.abs(residuals(sol.x)[:8]).max()
+    if found.position[2] < spec.cushion_height + 0.2 or misfit > 0.05 * _length_px(corners):
         return None
     return found
