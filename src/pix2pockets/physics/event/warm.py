@@ -115,6 +115,16 @@ def _run_one_shot() -> None:
     EventSimulator().simulate(eight_ball_rack(), Shot(angle=0.0, speed=2.0))
 
 
+def _run_position_value() -> None:
+    """One look-ahead value: compiles (or loads) the planner's position kernel."""
+    import numpy as np
+
+    from pix2pockets.geometry.table import TableSpec
+    from pix2pockets.planner.position import direct_pot_probabilities
+
+    direct_pot_probabilities(np.array([[0.5, 0.5], [1.0, 0.6]]), 0, [1], TableSpec(), 0.01)
+
+
 def _start_helper() -> subprocess.Popen | None:
     """A helper process that compiles the event-time kernels (None when one cannot start)."""
     import numba
@@ -188,6 +198,7 @@ def compile_kernels(parallel: bool | None = None) -> float:
                         helper.wait()
                 _run_one_shot()
     _run_one_shot()
+    _run_position_value()
     return time.perf_counter() - t
 
 
