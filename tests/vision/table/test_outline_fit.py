@@ -10,7 +10,12 @@ from pix2pockets.geometry.homography import fit_homography
 from pix2pockets.vision.detect.analytic import standard_views
 from pix2pockets.vision.locate.balls import sphere_boxes
 from pix2pockets.vision.table.errors import TableFitError
-from pix2pockets.vision.table.outline_camera import complete_three_lines, outline_rectangle, rectangle_cost
+from pix2pockets.vision.table.outline_camera import (
+    camera_from_outline,
+    complete_three_lines,
+    outline_rectangle,
+    rectangle_cost,
+)
 from pix2pockets.vision.table.outline_fit import fit_outline
 from pix2pockets.vision.table.table_size import spec_of_length
 
@@ -152,3 +157,19 @@ def test_squashed_export_with_the_aspect_the_balls_show():
     fit = fit_outline(outline_of(camera), (640, 640), SPEC, ball_boxes=ball_boxes(camera))
     assert fit.camera.K[0, 0] / fit.camera.K[1, 1] == pytest.approx(aspect, rel=1e-6)
     assert same_table(fit, camera, SPEC, 1.0)
+
+
+def test_a_table_seen_from_far_above_through_a_long_lens_is_fitted():
+    centre = np.array([SPEC.length / 2, SPEC.width / 2, 0.0])
+    camera = PinholeCamera.look_at(centre + np.array([0.0, 3.0, 40.0]), centre, 12000.0, (1280, 720))
+    fit = fit_outline(outline_of(camera), camera.image_size, SPEC, ball_boxes=ball_boxes(camera))
+    assert same_table(fit, camera, SPEC, 4.0)  # 0.5 % of the table's length: square on, any long focal fits
+    assert fit.camera.K[1, 1] <= 1.1 * 8.0 * 1280
+
+
+def test_a_held_focal_length_stays_where_it_is_put():
+    camera = standard_views(SPEC)["45"]
+    free, _, _ = camera_from_outline(outline_of(camera), camera.image_size, SPEC, focal_px=3000.0)
+    held, _, _ = camera_from_outline(outline_of(camera), camera.image_size, SPEC, focal_px=3000.0, focal_sigma=1e-3)
+    assert abs(free.K[1, 1] - camera.K[1, 1]) < 0.01 * camera.K[1, 1]  # the corners pull a free one back
+    assert abs(held.K[1, 1] - 3000.0) < 0.01 * 3000.0

@@ -109,9 +109,16 @@ def quick_camera(
     return PinholeCamera(intrinsics(f, size), R, t, (round(size[0]), round(size[1]))), cost
 
 
-def refined(camera: PinholeCamera, world3: np.ndarray, image: np.ndarray, focal_prior: float) -> PinholeCamera:
+def refined(
+    camera: PinholeCamera,
+    world3: np.ndarray,
+    image: np.ndarray,
+    focal_prior: float,
+    focal_sigma: float = FOCAL_SIGMA,
+) -> PinholeCamera:
     """``camera`` refined by least squares on the points ``world3`` (n, 3) [m] seen at ``image`` (n, 2) [px]: focal
-    length, rotation and translation, with a weak prior on the focal length."""
+    length, rotation and translation, with a log-normal prior of spread ``focal_sigma`` on the focal length (weak by
+    default; a small spread holds it)."""
     w, h = camera.image_size
     centre = np.array([camera.K[0, 2], camera.K[1, 2]])
 
@@ -119,7 +126,7 @@ def refined(camera: PinholeCamera, world3: np.ndarray, image: np.ndarray, focal_
         R = cv2.Rodrigues(p[1:4])[0]
         cam = world3 @ R.T + p[4:7]
         proj = cam[:, :2] / cam[:, 2:3] * math.exp(p[0]) + centre
-        return np.concatenate([(proj - image).ravel(), [(p[0] - math.log(focal_prior)) / FOCAL_SIGMA]])
+        return np.concatenate([(proj - image).ravel(), [(p[0] - math.log(focal_prior)) / focal_sigma]])
 
     p0 = np.concatenate([[math.log(camera.K[1, 1])], cv2.Rodrigues(camera.R)[0].ravel(), camera.t])
     try:
@@ -185,6 +192,7 @@ def camera_from_outline(
     offset: float = CUSHION_WIDTH,
     focal_px: float | None = None,
     plane_z: float | None = None,
+    focal_sigma: float = FOCAL_SIGMA,
 ) -> tuple[PinholeCamera, float, float]:
     """The camera that sees the cloth outline of ``spec`` at ``corners_px`` (4, 2) [px], corner ``k`` being
     ``outline_rectangle(spec)[k]``, refined by least squares on the corners. Returns ``(camera, rectangle cost,
@@ -194,6 +202,7 @@ def camera_from_outline(
         focal_px: focal length [px of image height] to start from and keep close to (default: the one the corners
             imply, :func:`rectangle_cost`).
         plane_z: height of the outline above the cloth [m] (default: the cushion-nose height).
+        focal_sigma: spread of the log-normal prior on the focal length about ``focal_px`` (small: hold it).
 
     Raises:
         TableFitError: the corners give no camera.
@@ -207,7 +216,7 @@ def camera_from_outline(
     camera, cost = quick
     z = spec.cushion_height if plane_z is None else plane_z
     world3 = np.column_stack([outline_rectangle(spec, offset), np.full(4, z)])
-    camera = refined(camera, world3, corners, focal_px or camera.K[1, 1])
+    camera = refined(camera, world3, corners, focal_px or camera.K[1, 1], focal_sigma)
     err = np.linalg.norm(camera.project(world3) - corners, axis=1)
     rms = float(np.sqrt(np.mean(err**2))) if np.all(np.isfinite(err)) else math.inf
     return stretched(camera, aspect, image_size), cost, rms

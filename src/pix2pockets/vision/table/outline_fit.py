@@ -341,7 +341,15 @@ def _final_fit(
     aspect = best.aspect
     quad = best.quad * np.array([aspect, 1.0])
     focal = best.camera.K[1, 1] if best.three_lines else None
-    camera, _, rms = camera_from_outline(quad, image_size, base, aspect, offset, focal, plane_z)
+    longest = FOCAL_RANGE[1] * max(image_size)
+
+    def fitted(table: TableSpec) -> tuple[PinholeCamera, float]:
+        camera, _, rms = camera_from_outline(quad, image_size, table, aspect, offset, focal, plane_z)
+        if focal is None and camera.K[1, 1] > longest:  # seen square on: the corners hardly fix the focal length
+            camera, _, rms = camera_from_outline(quad, image_size, table, aspect, offset, longest, plane_z, 1e-3)
+        return camera, rms
+
+    camera, rms = fitted(base)
     final, size_source = base, "given"
     if spec is None:
         size_source = "default"
@@ -350,7 +358,7 @@ def _final_fit(
             final = spec_of_length(k * (base.length + 2 * offset) - 2 * offset, base)
             size_source = "balls"
             if final is not base:
-                camera, _, rms = camera_from_outline(quad, image_size, final, aspect, offset, focal, plane_z)
+                camera, rms = fitted(final)
     _check_camera(camera, final, image_size)
     on_table = len(boxes) - _balls_off(camera, (boxes[:, :2] + boxes[:, 2:]) / 2, final) if len(boxes) else 0
     if camera_tilt(camera) < math.radians(TOP_VIEW_DEG) and on_table < TOP_VIEW_BALLS:
