@@ -13,7 +13,6 @@ pytest.importorskip("python_multipart")
 from fastapi.testclient import TestClient
 
 from pix2pockets.pipeline import photo
-from pix2pockets.state import Group
 from pix2pockets.testing import LabelsDetector, NearestPocketPlanner
 from pix2pockets.vision.image_io import decode_image_rgb
 from pix2pockets.web import app as web_app
@@ -52,7 +51,8 @@ def test_page_is_self_contained(rendered):
 def test_health(rendered):
     doc = client_for(rendered[1], max_upload_bytes=12345, queue=3).get("/api/health").json()
     assert doc["status"] == "ok" and doc["max_upload_bytes"] == 12345
-    assert doc["groups"] == ["auto", "solids", "stripes"] == [web_app.GROUPS[0], *(g.value for g in Group)]
+    assert doc["groups"] == ["auto", "solids", "stripes", "reds", "yellows"] == list(web_app.GROUPS)
+    assert doc["ball_sets"] == ["auto", "american", "blackball"]
     assert doc["workers"] == 1 and doc["queue"] == 3 and doc["running"] == doc["queued"] == 0
 
 

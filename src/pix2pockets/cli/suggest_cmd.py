@@ -11,6 +11,7 @@ from pix2pockets.cli.warmup_cmd import AfterCompile, compile_in_background
 from pix2pockets.data.examples import example_photo_path
 from pix2pockets.files import check_output, write_atomic
 from pix2pockets.geometry.table import TABLE_PRESETS
+from pix2pockets.state.ball_set import BALL_SET_CHOICES, group_choices
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".webp")
 
@@ -23,7 +24,17 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("image", nargs="?", help="photo of the table (default: the bundled example)")
     parser.add_argument(
-        "--group", choices=["solids", "stripes", "auto"], default="auto", help="your group (auto: the better shot)"
+        "--group",
+        choices=group_choices(),
+        default="auto",
+        help="your group: solids or stripes (American set), reds or yellows (blackball set); auto: the better shot",
+    )
+    parser.add_argument(
+        "--set",
+        dest="ball_set",
+        choices=BALL_SET_CHOICES,
+        default="auto",
+        help="the balls: american (solids and stripes), blackball (reds and yellows) or auto (read from the photo)",
     )
     parser.add_argument("--out", help="write the result picture here (.png or .jpg)")
     parser.add_argument("--json", dest="json_out", help="write the result as JSON here ('-' for stdout)")
@@ -111,6 +122,7 @@ def run(args: argparse.Namespace) -> int:
         spec=None if args.table == "auto" else table_preset(args.table),
         locate_method=args.method,
         number_reader=(args.numbers or "").lower() != "none",
+        ball_set=args.ball_set,
     )
     # everything is computed before anything is written: errors leave no partial outputs
     picture = encode_picture(render_result(rgb, result), Path(args.out).suffix) if args.out else None

@@ -22,7 +22,15 @@ TABLE_LINE = (120, 255, 120)
 CLOTH = (22, 92, 150)
 RAIL = (92, 56, 30)
 POCKET = (15, 15, 15)
-BALL_COLOURS = {"cue": (245, 245, 240), "black": (20, 20, 20), "solid": (230, 190, 20), "stripe": (200, 40, 40)}
+BALL_COLOURS = {
+    "cue": (245, 245, 240),
+    "black": (20, 20, 20),
+    "solid": (230, 190, 20),
+    "stripe": (200, 40, 40),
+    "red": (200, 25, 35),
+    "yellow": (245, 200, 35),
+}
+"""Diagram colours (RGB) by class name: a blackball set's balls are red and yellow."""
 TEXT_BAND = 44  # [px]
 
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import functools
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -19,13 +20,23 @@ from pix2pockets.geometry.raster import table_to_env_pixels
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.pipeline.planning import ShotPlanner, default_planner, plan_shot
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
-from pix2pockets.vision.classes import CLASS_NAMES
+from pix2pockets.state.ball_set import BallSet, class_name, group_name, parse_ball_set, parse_group
+from pix2pockets.vision.classes import DETECTION_CAPS, ball_class_of
 from pix2pockets.vision.detect.base import Detector
 from pix2pockets.vision.detect.detections import Detections
-from pix2pockets.vision.detect.postprocess import DEFAULT_NMS_IOU, box_iou, resolve_ball_classes
+from pix2pockets.vision.detect.postprocess import DEFAULT_NMS_IOU, apply_caps, box_iou, resolve_ball_classes
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.locate.balls import LocateMethod, locate_balls
 from pix2pockets.vision.stages.ball_classifier import NUMBER_PROBS
+from pix2pockets.vision.stages.ball_colours import (
+    RED,
+    SOLID_ID,
+    STRIPE_ID,
+    YELLOW,
+    ball_colours,
+    blackball_classes,
+    read_ball_set,
+)
 from pix2pockets.vision.stages.ball_numbers import BallNumberReader, assign_numbers
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.estimate import estimate_table
@@ -43,6 +54,18 @@ SURE_BALL_SCORE = 0.45
 photos the detector's class heads and the ball classifier often disagree about a ball (a real 8 the classifier is
 sure of, the black head not), and their joint class score then falls under :data:`MIN_CONFIDENCE` although the ball
 is plainly there (``docs/benchmarks-detector.md``)."""
+GROUP_SETS = {
+    "solids": BallSet.AMERICAN,
+    "stripes": BallSet.AMERICAN,
+    "reds": BallSet.BLACKBALL,
+    "yellows": BallSet.BLACKBALL,
+}
+"""The set a group's name implies when the set is read from the photo."""
+LOOSE_OBJECT_CAPS = (*DETECTION_CAPS[:2], 14, 14, *DETECTION_CAPS[4:])
+"""Caps while a blackball set's object balls are still to be named by colour: room for all 14 in either class."""
+COLOURED_BALL_SCORE = 0.15
+"""In a blackball set a detection this sure whose middle is clearly red or yellow is a ball: its colour is the
+evidence the detector's solid and stripe heads lack for a plain red or yellow ball."""
 
 
 @functools.lru_cache(maxsize=1)
@@ -94,7 +117,35 @@ def clean_detections(raw: Detections) -> Detections:
     stripe score, but it is still a ball on the table (and an obstacle to plan around). A ball whose "any ball"
     score reaches :data:`SURE_BALL_SCORE` is kept whatever its class scores.
     """
-    det = resolve_ball_classes(raw)
+    return _confident(resolve_ball_classes(raw), raw)
+
+
+def clean_detections_for_set(
+    raw: Detections, rgb: np.ndarray, ball_set: BallSet | str = "auto"
+) -> tuple[Detections, BallSet]:
+    """:func:`clean_detections` for a ball set, or the set read from the photo (``auto``).
+
+    A blackball set's 14 object balls may all look solid to the detector: they are grouped with room for all of
+    them, named red or yellow by colour (:mod:`pix2pockets.vision.stages.ball_colours`) and only then capped at 7
+    of each; a clearly red or yellow ball is kept from a lower score (:data:`COLOURED_BALL_SCORE`). Returns the
+    detections and the set.
+    """
+    if ball_set != "auto" and parse_ball_set(ball_set) is BallSet.AMERICAN:
+        return clean_detections(raw), BallSet.AMERICAN
+    loose = resolve_ball_classes(raw, caps=LOOSE_OBJECT_CAPS)
+    chosen = read_ball_set(rgb, loose) if ball_set == "auto" else BallSet.BLACKBALL
+    if chosen is BallSet.AMERICAN:
+        return clean_detections(raw), chosen
+    named = apply_caps(blackball_classes(rgb, loose))
+    object_ball = named.is_ball & np.isin(named.class_id, (SOLID_ID, STRIPE_ID))
+    coloured = np.zeros(len(named), dtype=bool)
+    coloured[object_ball] = np.isin(ball_colours(rgb, named.boxes[object_ball]), (RED, YELLOW))
+    return _confident(named, raw, coloured & (named.confidence >= COLOURED_BALL_SCORE)), chosen
+
+
+def _confident(det: Detections, raw: Detections, keep: np.ndarray | None = None) -> Detections:
+    """The resolved detections whose score (a ball's best raw score of any class) passes its class's floor, and
+    those ``keep`` (n,) marks."""
     score = det.confidence
     balls = raw[raw.is_ball]
     if len(det) and len(balls):
@@ -102,6 +153,8 @@ def clean_detections(raw: Detections) -> Detections:
         best_raw = np.where(overlap, balls.own_score[None, :], 0.0).max(axis=1)
         score = np.where(det.is_ball, np.maximum(score, best_raw), score)
     sure_ball = det.is_ball & (np.nan_to_num(det.ball_score, nan=0.0) >= SURE_BALL_SCORE)
+    if keep is not None:
+        sure_ball |= keep
     return det[(score >= MIN_CONFIDENCE[det.class_id]) | sure_ball]
 
 
@@ -168,12 +221,13 @@ def suggest(
     number_reader: BallNumberReader | bool | None = True,
     skill: str = "pro",
     table_model: TableModel | bool | None = True,
+    ball_set: BallSet | str = "auto",
 ) -> Suggestion:
     """The best shot for a photo of a pool table.
 
     Args:
         image: a path to an image file, or an RGB uint8 array (H, W, 3).
-        group: ``solids``, ``stripes`` or ``auto`` (the group with the better shot).
+        group: ``solids``, ``stripes``, ``reds``, ``yellows`` or ``auto`` (the group with the better shot).
         detector: the detector (default: the bundled ONNX model).
         planner: the shot planner (default: :func:`pix2pockets.pipeline.planning.default_planner`).
         spec: the table; ``None`` (default) measures its size from the balls when the table is found without
@@ -189,6 +243,8 @@ def suggest(
             ``club``, ``beginner`` or a noise ``FILE.json``; ignored when ``planner`` is given).
         table_model: finds the playing surface, its corners and side pockets (``True``: the bundled model when
             present; ``False`` or ``None``: the table is fitted to the diamonds and the cloth's colour only).
+        ball_set: ``american``, ``blackball`` or ``auto`` (read from the balls' colours; a group of one set, such as
+            ``reds``, names the set).
 
     Raises:
         ValueError: unreadable image, no table found, too few table points, no cue ball, no balls of the
@@ -207,7 +263,10 @@ def suggest(
     timings["detect"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    det = clean_detections(raw)
+    if ball_set == "auto" and str(group).lower() in GROUP_SETS:
+        ball_set = GROUP_SETS[str(group).lower()]
+    det, chosen = clean_detections_for_set(raw, rgb, ball_set)
+    wanted = parse_group(group, chosen)
     surface = read_surface(rgb, det, table_model)
     fit = estimate_table(rgb, det, (w, h), spec, pixel_aspect=det.pixel_aspect, surface=surface)
     spec = fit.spec
@@ -229,17 +288,18 @@ def suggest(
 
     t = time.perf_counter()
     kept = located.detections
-    read = read_numbers(rgb, kept, number_reader)
+    read = read_numbers(rgb, kept, number_reader if chosen is BallSet.AMERICAN else None)
     timings["numbers"] = time.perf_counter() - t
 
     t = time.perf_counter()
     planner = planner or default_planner(skill=skill)
-    advice = plan_shot(layout, group, planner, rng)
+    advice = plan_shot(layout, wanted if wanted == "auto" else wanted.value, planner, rng)
+    advice = replace(advice, group=group_name(advice.group, chosen))
     timings["plan"] = time.perf_counter() - t
 
     balls = tuple(
         LocatedBall(
-            CLASS_NAMES[int(c)],
+            class_name(ball_class_of(int(c)), chosen),
             float(conf),
             tuple(float(v) for v in box),
             tuple(float(v) for v in contact),
@@ -268,4 +328,5 @@ def suggest(
         "given" if given_spec else fit.size_source,
         float(fit.rms_px) if np.isfinite(fit.rms_px) else None,
         fit_evidence(fit, surface),
+        chosen.value,
     )

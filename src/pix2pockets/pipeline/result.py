@@ -35,7 +35,7 @@ class LocatedBall:
     """One ball found in the photo.
 
     Attributes:
-        ball_class: ``cue``, ``black``, ``solid`` or ``stripe``.
+        ball_class: ``cue``, ``black``, ``solid`` or ``stripe`` (``red`` or ``yellow`` in a blackball set).
         confidence: detector score in [0, 1].
         bbox_px: box ``x1, y1, x2, y2`` [px].
         contact_px: where the ball touches the cloth, in the image [px].
@@ -194,6 +194,8 @@ class Suggestion:
         size_source: where the table's size came from: ``given`` (the caller's table), ``balls`` (the balls'
             apparent size), ``diamonds`` or ``default`` (9-foot, nothing measured it).
         fit_error_px: root-mean-square reprojection error of the points the table was fitted to [px].
+        ball_set: ``american`` (cue, solids, 8, stripes) or ``blackball`` (cue, reds, yellows, black); the balls'
+            classes and the shot's group are named in it.
         evidence: the cues behind the fit: ``diamonds`` matched, the table model's ``corners`` and ``side_pockets``
             and the ``cushion_lines`` seen (0 without a surface), and the ``cloth_edges``: sides of the table's cloth
             outline moved onto the cloth's edge in the photo.
@@ -213,6 +215,7 @@ class Suggestion:
     size_source: str = "given"
     fit_error_px: float | None = None
     evidence: dict = field(default_factory=dict)
+    ball_set: str = "american"
 
     @property
     def spec(self) -> TableSpec:
@@ -253,6 +256,7 @@ class Suggestion:
                 "diamond_height_measured": bool(self.diamond_height_measured),
                 "pixel_aspect": round(self.pixel_aspect, 4),
             },
+            "ball_set": self.ball_set,
             "balls": [b.to_dict() for b in self.balls],
             "suggestion": self.shot.to_dict(),
             "text": self.text,

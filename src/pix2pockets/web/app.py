@@ -2,8 +2,9 @@
 
 Routes:
     ``GET /``: the page (one self-contained HTML file: inline CSS and JS, nothing fetched from elsewhere).
-    ``POST /api/jobs``: multipart ``file`` (the photo), ``group`` (``auto``, ``solids`` or ``stripes``) and
-    optionally ``skill`` (``pro``, the default, ``club`` or ``beginner``: the shot and its chance are for it);
+    ``POST /api/jobs``: multipart ``file`` (the photo), ``group`` (``auto``, ``solids``, ``stripes``, ``reds`` or
+    ``yellows``) and optionally ``skill`` (``pro``, the default, ``club`` or ``beginner``: the shot and its chance
+    are for it), ``table`` (``auto`` or a size) and ``set`` (``auto``, ``american`` or ``blackball``);
     answers 202 at once with the job's id; ``GET /api/jobs/{id}`` follows it (queued with the number of photos
     ahead, then each stage, then the answer). ``?since=VERSION`` waits up to 15 s for the next change.
     ``POST /api/suggest``: the same upload, answered when done: the JSON of ``pix2pockets suggest --json`` plus
@@ -11,9 +12,9 @@ Routes:
     ``GET /api/example``: the bundled example photo. ``GET /api/health``: ``{"status": "ok", ...}`` with the
     pool's counts. ``GET /favicon.ico``: the icon.
 
-Every error is JSON ``{"error": "<one line>"}``: 400 bad upload, group or skill, 404 unknown route or job, 413 upload
-too large, 422 a readable photo where the table, the cue ball or the group's balls are not found, 503 busy
-(with ``Retry-After``), shutting down, or no detector or planner in this build. The photo goes through the same
+Every error is JSON ``{"error": "<one line>"}``: 400 bad upload, group, skill, table or set, 404 unknown route or
+job, 413 upload too large, 422 a readable photo where the table, the cue ball or the group's balls are not found,
+503 busy (with ``Retry-After``), shutting down, or no detector or planner in this build. The photo goes through the same
 functions as the CLI (see :mod:`pix2pockets.web.worker`).
 
 Example:
@@ -41,6 +42,7 @@ from starlette.datastructures import UploadFile
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from pix2pockets import __version__
+from pix2pockets.state.ball_set import BALL_SET_CHOICES, group_choices
 from pix2pockets.vision.image_io import MAX_PIXELS
 from pix2pockets.web.jobs import BusyError, Job, JobBoard
 from pix2pockets.web.pool import MAX_WAIT_S, WorkerPool
@@ -52,7 +54,8 @@ if TYPE_CHECKING:  # the app's process stays light: the models and the pipeline 
 
 MAX_UPLOAD_BYTES = 20_000_000
 """Largest request body accepted [bytes]; larger uploads get a 413 before they are read in full."""
-GROUPS = ("auto", "solids", "stripes")
+GROUPS = group_choices()
+BALL_SETS = BALL_SET_CHOICES
 """``auto`` and the values of :class:`pix2pockets.state.Group`."""
 LONG_POLL_S = 15.0
 """Longest a ``GET /api/jobs/{id}?since=N`` waits for the job to change [s]."""
@@ -209,6 +212,7 @@ def create_app(
             "groups": list(GROUPS),
             "skills": list(SKILLS),
             "tables": list(TABLES),
+            "ball_sets": list(BALL_SETS),
             "max_upload_bytes": max_upload_bytes,
             "example": example.is_file(),
             **board.stats(),
@@ -239,13 +243,18 @@ def create_app(
                 table = form.get("table", "auto")
                 if not isinstance(table, str) or table.strip().lower() not in TABLES:
                     raise WebError(400, f"unknown table {str(table)[:40]!r}; choose {', '.join(TABLES)}")
+                ball_set = form.get("set", "auto")
+                if not isinstance(ball_set, str) or ball_set.strip().lower() not in BALL_SETS:
+                    raise WebError(400, f"unknown ball set {str(ball_set)[:40]!r}; choose {', '.join(BALL_SETS)}")
                 upload = form.get("file")
                 if not isinstance(upload, UploadFile):
                     raise WebError(400, "no photo uploaded (send it as the multipart file field 'file')")
                 data = await upload.read()
                 name = _upload_name(upload)
             _check_header(data, name, max_pixels)
-            options = JobOptions(group.strip().lower(), skill.strip().lower(), table.strip().lower())
+            options = JobOptions(
+                group.strip().lower(), skill.strip().lower(), table.strip().lower(), ball_set.strip().lower()
+            )
             return submit(data, name, options, keep)
 
     @app.post("/api/suggest")

@@ -123,11 +123,12 @@ TABLES = ("auto", *TABLE_PRESETS)
 
 @dataclass(frozen=True, slots=True)
 class JobOptions:
-    """What the player asked for with a photo: their group, their skill level and the table's size."""
+    """What the player asked for with a photo: their group, their skill level, the table's size and the ball set."""
 
     group: str = "auto"
     skill: str = "pro"
     table: str = "auto"
+    ball_set: str = "auto"
 
     @classmethod
     def of(cls, options: JobOptions | str) -> JobOptions:
@@ -222,7 +223,9 @@ class Engine:
         planner = _Reporting(self.planner_for(options.skill), "suggest", before=_Once(report, "plan"))
         spec = None if options.table == "auto" else table_preset(options.table)
         try:
-            result = photo.suggest(rgb, group=options.group, detector=detector, planner=planner, spec=spec)
+            result = photo.suggest(
+                rgb, group=options.group, detector=detector, planner=planner, spec=spec, ball_set=options.ball_set
+            )
         except ValueError as err:
             raise WebError(422, str(err)) from None
         report("draw")

@@ -122,7 +122,9 @@ def at_most_one_posterior(scores: np.ndarray, absent_odds: float = 1.0) -> np.nd
     return odds / (absent_odds + odds.sum())
 
 
-def resolve_ball_classes(det: Detections, iou_threshold: float = DEFAULT_NMS_IOU) -> Detections:
+def resolve_ball_classes(
+    det: Detections, iou_threshold: float = DEFAULT_NMS_IOU, caps: Sequence[int] = DETECTION_CAPS
+) -> Detections:
     """Class-aware post-processing for the product pipeline (ours, not the paper's).
 
     The paper's NMS keeps each ball's single most confident class, so when every class head fires on the
@@ -144,11 +146,12 @@ def resolve_ball_classes(det: Detections, iou_threshold: float = DEFAULT_NMS_IOU
     such a detector may have weighed across the table by the balls' numbers
     (:mod:`pix2pockets.vision.stages.number_posterior`; stripes and solids AP50 after +1 to +2 on the validation
     renders); for other detectors the two scores are the same. Each resolved ball keeps the best ``ball_score``
-    of its group (NaN when the detector gives none).
+    of its group (NaN when the detector gives none). ``caps`` are the most balls of each class kept (looser caps
+    let a later step rename the object balls, as :mod:`pix2pockets.vision.stages.ball_colours` does).
     """
     balls, diamonds = det[det.is_ball], det[det.is_diamond]
     if not len(balls):
-        return postprocess(det, iou_threshold)
+        return postprocess(det, iou_threshold, caps)
     used = np.zeros(len(balls), dtype=bool)
     leaders, scores, table_scores, ball_scores = [], [], [], []
     own = balls.own_score
@@ -192,4 +195,4 @@ def resolve_ball_classes(det: Detections, iou_threshold: float = DEFAULT_NMS_IOU
         data={key: value[idx] for key, value in balls.data.items()},
         pixel_aspect=balls.pixel_aspect,
     )
-    return postprocess(Detections.concatenate([resolved, diamonds]), iou_threshold)
+    return postprocess(Detections.concatenate([resolved, diamonds]), iou_threshold, caps)

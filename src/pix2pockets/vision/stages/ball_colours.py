@@ -1,0 +1,181 @@
+"""Red and yellow balls: which ball set a photo shows, and each object ball's group in a blackball set.
+
+The detector names balls cue, black, solid or stripe: a UK blackball set's reds and yellows are "solids" to it. Their
+colours tell them apart without a model: each object ball's inner disc is read in HSV, its coloured pixels (enough
+saturation and light) sorted into red (hue within :data:`RED_HUE` of 0), yellow (hue in :data:`YELLOW_HUES`, the
+orange-yellow of a yellow ball under warm light included) and other. A table whose coloured object balls are
+nearly all red or yellow, with both colours present and no clear stripes, holds a blackball set
+(:func:`read_ball_set`); :func:`blackball_classes` then gives every red ball the solid class and every yellow ball
+the stripe class (:mod:`pix2pockets.state.ball_set`: reds play as solids, yellows as stripes).
+
+Hues are OpenCV's (0-180 for 0-360 degrees).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+
+import cv2
+import numpy as np
+
+from pix2pockets.state.ball_set import BallSet
+from pix2pockets.vision.classes import CLASS_NAMES
+from pix2pockets.vision.detect.detections import Detections
+
+BLACK_ID = CLASS_NAMES.index("black")
+SOLID_ID = CLASS_NAMES.index("solid")
+STRIPE_ID = CLASS_NAMES.index("stripe")
+RED_HUE = 9
+"""Largest hue distance from pure red of a red pixel (OpenCV units, 2 degrees each)."""
+YELLOW_HUES = (11, 38)
+"""Hues of yellow pixels (orange-yellow to lemon)."""
+MIN_SATURATION = 70
+MIN_VALUE = 40
+INNER = 0.6
+"""Share of the box's half-size read: the ball's middle, without the cloth around it."""
+MIN_COLOURED = 0.25
+"""Share of a ball's inner pixels that must be coloured for its colour to count (cue and black are not)."""
+MAJORITY = 0.6
+"""Share of a ball's coloured pixels one colour needs to name it."""
+BLACKBALL_SHARE = 0.85
+"""Share of the coloured object balls that must be red or yellow for a blackball set."""
+MIN_COLOURED_BALLS = 3
+"""Coloured object balls a photo needs before its set is read from them."""
+AMERICAN_SAME_COLOUR = 4
+"""Most balls of an American set that read as one of red or yellow: more of one colour is a blackball set."""
+MIN_SET_SCORE = 0.2
+"""Only object balls the detector is at least this sure of tell the set (faint ones are often not balls)."""
+STRIPE_EVIDENCE = 0.6
+"""A ball the detector calls a stripe at least this surely, neither red nor yellow, marks an American set."""
+
+MAX_BLACK_SCORE = 190.0
+"""A ball that is not red is taken for an unfound black when its :func:`black_scores` is below this (blacks in the
+labelled pub frames: 84-202, median 140; yellows 168-365, median 304)."""
+
+SURE_BLACK = 0.5
+"""A black the detector is this sure of stays the black."""
+BLACK_CANDIDATE_SCORE = 0.25
+"""Least detection score of a ball that may be taken for an unfound black."""
+
+RED, YELLOW, OTHER, NONE = 0, 1, 2, 3
+"""Colours :func:`ball_colours` returns (``NONE``: too few coloured pixels, e.g. the cue ball or the black)."""
+
+
+def _ring(rgb: np.ndarray, box: np.ndarray, inner: float, outer: float) -> np.ndarray:
+    """HSV pixels (m, 3) of a ball's box between ``inner`` and ``outer`` shares of its radius."""
+    x1, y1, x2, y2 = box
+    h, w = rgb.shape[:2]
+    cx, cy = (x1 + x2) / 2, (y1 + y2) / 2
+    r = min(x2 - x1, y2 - y1) / 2
+    if r < 1:
+        return np.zeros((0, 3), np.uint8)
+    a, b = max(int(cx - outer * r), 0), max(int(cy - outer * r), 0)
+    patch = rgb[b : min(int(np.ceil(cy + outer * r)) + 1, h), a : min(int(np.ceil(cx + outer * r)) + 1, w)]
+    if patch.size == 0:
+        return np.zeros((0, 3), np.uint8)
+    yy, xx = np.mgrid[b : b + patch.shape[0], a : a + patch.shape[1]]
+    d2 = (xx + 0.5 - cx) ** 2 + (yy + 0.5 - cy) ** 2
+    keep = (d2 <= (outer * r) ** 2) & (d2 >= (inner * r) ** 2)
+    return cv2.cvtColor(np.ascontiguousarray(patch), cv2.COLOR_RGB2HSV)[keep]
+
+
+def ball_colours(rgb: np.ndarray, boxes: np.ndarray) -> np.ndarray:
+    """Each ball's colour (n,): :data:`RED`, :data:`YELLOW`, :data:`OTHER` or :data:`NONE`, from its inner disc.
+
+    Args:
+        rgb: the photo, RGB uint8 (H, W, 3).
+        boxes: ball boxes ``x1, y1, x2, y2`` [px] (n, 4).
+    """
+    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
+    out = np.full(len(boxes), NONE)
+    for k, box in enumerate(boxes):
+        hsv = _ring(rgb, box, 0.0, INNER)
+        if not len(hsv):
+            continue
+        coloured = hsv[(hsv[:, 1] >= MIN_SATURATION) & (hsv[:, 2] >= MIN_VALUE)]
+        if len(coloured) < max(3, MIN_COLOURED * len(hsv)):
+            continue
+        hue = coloured[:, 0].astype(int)
+        red = np.minimum(hue, 180 - hue) <= RED_HUE
+        yellow = (hue >= YELLOW_HUES[0]) & (hue <= YELLOW_HUES[1])
+        shares = np.array([red.mean(), yellow.mean()])
+        best = int(np.argmax(shares))
+        out[k] = best if shares[best] >= MAJORITY else OTHER
+    return out
+
+
+def black_scores(rgb: np.ndarray, boxes: np.ndarray) -> np.ndarray:
+    """How black each ball looks (n,), lower is blacker: the dark quarter of its outer ring's brightness plus half
+    its middle's saturation (HSV, 0-255). A black ball that mirrors a window keeps a dark rim and a pale middle;
+    a yellow is bright and saturated throughout."""
+    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
+    out = np.full(len(boxes), np.inf)
+    for k, box in enumerate(boxes):
+        ring, middle = _ring(rgb, box, 0.55, 0.85), _ring(rgb, box, 0.0, INNER)
+        if len(ring) and len(middle):
+            out[k] = float(np.percentile(ring[:, 2], 25) + np.median(middle[:, 1]) / 2)
+    return out
+
+
+def _object_balls(det: Detections) -> np.ndarray:
+    return np.flatnonzero(det.is_ball & np.isin(det.class_id, (SOLID_ID, STRIPE_ID)))
+
+
+def read_ball_set(rgb: np.ndarray, det: Detections) -> BallSet:
+    """The ball set of a photo from its resolved detections (one class per ball).
+
+    Blackball when at least :data:`MIN_COLOURED_BALLS` object balls (of score :data:`MIN_SET_SCORE` or more) are
+    coloured, at least :data:`BLACKBALL_SHARE` of them red or yellow with both colours present (or more of one
+    than an American set has, :data:`AMERICAN_SAME_COLOUR`), and no ball that is neither is a sure stripe;
+    American otherwise (the default for too few coloured balls).
+    """
+    objects = _object_balls(det)
+    objects = objects[det.confidence[objects] >= MIN_SET_SCORE]
+    colours = ball_colours(rgb, det.boxes[objects])
+    coloured = colours != NONE
+    if coloured.sum() < MIN_COLOURED_BALLS:
+        return BallSet.AMERICAN
+    red_yellow = np.isin(colours[coloured], (RED, YELLOW))
+    both = (colours == RED).any() and (colours == YELLOW).any()
+    # an American set has at most four red-ish (3, 7, 11, 15) and four yellow-ish balls (1, 9 and orange 5, 13)
+    one_colour = max((colours == RED).sum(), (colours == YELLOW).sum()) > AMERICAN_SAME_COLOUR
+    striped = (det.class_id[objects] == STRIPE_ID) & (det.confidence[objects] >= STRIPE_EVIDENCE)
+    sure_stripes = striped & (colours == OTHER)
+    if red_yellow.mean() >= BLACKBALL_SHARE and (both or one_colour) and not sure_stripes.any():
+        return BallSet.BLACKBALL
+    return BallSet.AMERICAN
+
+
+def blackball_classes(rgb: np.ndarray, det: Detections) -> Detections:
+    """The detections with every red object ball classed solid and every yellow one stripe (a blackball set's
+    reds and yellows); balls of no clear colour keep their class. Numbers read by the detector are dropped
+    (blackball balls carry none).
+
+    Unless the detector is sure of a black (:data:`SURE_BLACK`), the black is found among the other balls: where one
+    colour counts more than 7 balls, the blackest of them (a black mirroring the room can look yellow throughout);
+    else the blackest ball that is not red (:func:`black_scores`, under :data:`MAX_BLACK_SCORE`, of score
+    :data:`BLACK_CANDIDATE_SCORE` or more: fainter ones are often pockets).
+    """
+    objects = _object_balls(det)
+    colours = ball_colours(rgb, det.boxes[objects])
+    class_id = det.class_id.copy()
+    class_id[objects[colours == RED]] = SOLID_ID
+    class_id[objects[colours == YELLOW]] = STRIPE_ID
+    blacks = np.flatnonzero(det.is_ball & (det.class_id == BLACK_ID))
+    if not np.any(det.confidence[blacks] >= SURE_BLACK):  # the black, mirroring the room, may read as a colour
+        black = None
+        for colour in (RED, YELLOW):
+            same = objects[colours == colour]
+            if len(same) > 7:  # one too many of a colour: the black is among them
+                black = same[int(np.argmin(black_scores(rgb, det.boxes[same])))]
+        if black is None:
+            candidates = np.concatenate([blacks, objects[colours != RED]])
+            candidates = candidates[det.confidence[candidates] >= BLACK_CANDIDATE_SCORE]
+            scores = black_scores(rgb, det.boxes[candidates])
+            if len(candidates) and scores.min() < MAX_BLACK_SCORE:
+                black = candidates[int(np.argmin(scores))]
+        if black is not None:
+            class_id[blacks] = STRIPE_ID  # unsure blacks that lose play as object balls
+            class_id[black] = BLACK_ID
+    data = {k: v for k, v in det.data.items() if k != "number_probs"}
+    return replace(det, class_id=class_id, data=data)
