@@ -22,8 +22,8 @@ def test_bad_group_is_one_line(capsys):
         main(["suggest", "--group", "nonsense"])
     assert exc.value.code == 2
     assert capsys.readouterr().err == (
-        "pix2pockets suggest: error: argument --group: invalid choice: 'nonsense' (choose from 'solids', 'stripes', "
-        "'auto') (see 'pix2pockets suggest --help')\n"
+        "pix2pockets suggest: error: argument --group: invalid choice: 'nonsense' (choose from 'auto', 'solids', "
+        "'stripes', 'reds', 'yellows') (see 'pix2pockets suggest --help')\n"
     )
 
 

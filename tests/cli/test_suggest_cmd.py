@@ -142,3 +142,18 @@ def test_outputs_get_normal_permissions(tmp_path, photo_file):
     mask = os.umask(0)
     os.umask(mask)
     assert stat.S_IMODE(out.stat().st_mode) == 0o666 & ~mask
+
+
+def test_a_blackball_set_names_its_balls_and_groups(photo_file, capsys):
+    assert main(["suggest", str(photo_file), "--set", "blackball", "--group", "reds", "--json", "-"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["ball_set"] == "blackball" and doc["suggestion"]["group"] == "reds"
+    assert {b["class"] for b in doc["balls"]} <= {"cue", "black", "red", "yellow"}
+    assert "red" in {b["class"] for b in doc["balls"]}
+
+
+def test_a_group_of_another_set_is_one_line(photo_file, capsys):
+    assert main(["suggest", str(photo_file), "--set", "blackball", "--group", "solids"]) == 2
+    err = capsys.readouterr().err
+    assert "unknown group 'solids' for the blackball set; choose auto, reds, yellows" in err
+    assert len(err.strip().splitlines()) == 1

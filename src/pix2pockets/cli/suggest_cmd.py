@@ -11,7 +11,7 @@ from pix2pockets.cli.warmup_cmd import AfterCompile, compile_in_background
 from pix2pockets.data.examples import example_photo_path
 from pix2pockets.files import check_output, write_atomic
 from pix2pockets.geometry.table import TABLE_PRESETS
-from pix2pockets.state.ball_set import BALL_SET_CHOICES, group_choices
+from pix2pockets.state.ball_set import BALL_SET_CHOICES, group_choices, parse_ball_set, parse_group
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".webp")
 
@@ -91,6 +91,8 @@ def run(args: argparse.Namespace) -> int:
     if args.image is None and not Path(image).is_file():
         raise ValueError("no IMAGE given and the bundled example photo is missing from this build")
 
+    if args.ball_set != "auto":  # a group of another set: one line, before the photo is read
+        parse_group(args.group, parse_ball_set(args.ball_set))
     if args.time_budget is not None and not args.time_budget > 0:
         raise ValueError(f"--time-budget must be a positive number of seconds, got {args.time_budget}")
     # first run after an install: say so, and compile the physics while the photo is read
