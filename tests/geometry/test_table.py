@@ -131,3 +131,11 @@ def test_contains():
     assert spec.contains([1.0, 0.5])
     assert not spec.contains([-0.01, 0.5])
     assert not spec.contains([0.01, 0.5], margin=spec.ball_radius)
+
+
+def test_uk_tables_follow_the_wepf_sizes():
+    uk7, uk6 = table_preset("uk7"), table_preset("uk6")
+    assert 2 * uk7.ball_radius == pytest.approx(0.0508) and uk7.ball_mass == pytest.approx(0.116)
+    assert (uk7.length, uk7.width) == pytest.approx((84 * INCH, 42 * INCH))
+    assert (uk6.length, uk6.width) == pytest.approx((72 * INCH, 36 * INCH))
+    assert uk7.corner_mouth < TableSpec().corner_mouth  # small pockets for small balls

@@ -110,9 +110,22 @@ def test_evaluate_planner_cli_skill(tmp_path):
     assert json.loads(out.read_text())["noise"] == "club"
 
 
+def test_evaluate_planner_cli_on_a_uk_table(tmp_path, monkeypatch):
+    from pix2pockets.planner import evaluation
+
+    seen = []
+    real = evaluation.sample_environment
+    monkeypatch.setattr(evaluation, "sample_environment", lambda *a: seen.append(a[2]) or real(*a))
+    out = tmp_path / "res.json"
+    code = main(["evaluate", "planner", "--planner", "oracle", "--balls", "2", "--layouts", "2", "--table", "uk7",
+                 "--json", str(out), "--no-progress"])  # fmt: skip
+    assert code == 0 and seen and all(spec.name == "uk7" for spec in seen)
+
+
 @pytest.mark.parametrize(
     "argv",
     [
+        ["evaluate", "planner", "--table", "uk7", "--protocol", "paper", "--layouts", "1"],
         ["evaluate", "planner", "--layouts", "0"],
         ["evaluate", "planner", "--noise", "loud", "--layouts", "1"],
         ["evaluate", "planner", "--json", "/nonexistent/dir/x.json", "--layouts", "1"],

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from pix2pockets.files import check_output, write_json
+from pix2pockets.geometry.table import TABLE_PRESETS, table_preset
 from pix2pockets.planner.evaluation import (
     BALL_SETS,
     EvaluationSummary,
@@ -48,6 +49,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         "16 = all balls, clear solids then the 8 (16)",
     )
     parser.add_argument("--layouts", type=int, default=100, help="number of layouts / turns (100)")
+    parser.add_argument(
+        "--table",
+        choices=sorted(TABLE_PRESETS),
+        default=None,
+        help="the table of our protocol's layouts (default 9ft; uk7 and uk6 are UK tables for 2 in balls)",
+    )
     parser.add_argument(
         "--seed",
         type=int,
@@ -132,6 +139,7 @@ class PlannerJob:
         defects: the paper protocol's defects switched on.
         time_budget: search decision limit [s].
         oracle_speed: the Oracle's max-power speed [m/s].
+        table: preset name of our protocol's table (``None``: 9-foot, or the paper's table on its physics).
     """
 
     planner: str
@@ -144,6 +152,7 @@ class PlannerJob:
     defects: tuple[str, ...] = ()
     time_budget: float | None = None
     oracle_speed: float | None = None
+    table: str | None = None
 
     def make_protocol(self) -> Protocol:
         """The :class:`Protocol` this job names."""
@@ -151,6 +160,8 @@ class PlannerJob:
             return paper_protocol("spawn-in-pocket" in self.defects, "early-eight-wins" in self.defects)
         from pix2pockets.geometry.raster import paper_table
 
+        if self.table is not None:
+            return ours_protocol(table_preset(self.table))
         return ours_protocol(paper_table() if self.physics == "paper" else None)
 
 
@@ -212,8 +223,10 @@ def run(args: argparse.Namespace) -> int:
     job = PlannerJob(
         planner=args.planner, physics=args.physics, balls=args.balls, seed=seed, noise=args.noise,
         planning_noise=planning, protocol=protocol_name, defects=tuple(sorted(defects)), time_budget=args.time_budget,
-        oracle_speed=args.oracle_speed,
+        oracle_speed=args.oracle_speed, table=args.table,
     )  # fmt: skip
+    if args.table is not None and protocol_name == "paper":
+        raise ValueError("--table applies to our protocol (the paper's protocol plays on its own table)")
     if args.ray is None:
         if args.workers is not None:
             raise ValueError("--workers applies with --ray")

@@ -350,18 +350,55 @@ def _preset(name: str, length_in: float, width_in: float) -> TableSpec:
     return TableSpec(name=name, length=length_in * INCH, width=width_in * INCH)
 
 
+UK_BALL_RADIUS = 1.0 * INCH
+"""Object balls of a UK blackball set: 2 in (50.8 mm) across (WEPF equipment specification)."""
+UK_BALL_MASS = 0.116
+"""Object ball mass of a UK set [kg] (WEPF: 116 g +- 2 g)."""
+
+
+def _uk_preset(name: str, length_in: float, width_in: float) -> TableSpec:
+    """A UK pub table for a blackball set: 2 in balls and small, rounded pockets. The WEPF fixes the balls and
+    the playing surface; the pocket openings follow its templates, which are not published, so the mouths here are
+    estimates scaled from the balls (corner 1.75 and middle 1.9 ball diameters, 3.5 and 3.8 in), as are the
+    cushion height (the same 0.635 of a ball as American cushions) and the rail."""
+    d = 2 * UK_BALL_RADIUS
+    return TableSpec(
+        name=name,
+        length=length_in * INCH,
+        width=width_in * INCH,
+        ball_radius=UK_BALL_RADIUS,
+        ball_mass=UK_BALL_MASS,
+        corner_mouth=1.75 * d,
+        side_mouth=1.9 * d,
+        corner_capture_radius=0.06,
+        side_capture_radius=0.055,
+        diamond_setback=3.0 * INCH,
+        rail_width=4.5 * INCH,
+        cushion_height=0.635 * d,
+    )
+
+
 TABLE_PRESETS: dict[str, TableSpec] = {
     "9ft": TableSpec(),
     "8ft": _preset("8ft", 92.0, 46.0),
     "7ft": _preset("7ft", 78.0, 39.0),
     "6ft": _preset("6ft", 66.0, 33.0),
+    "uk7": _uk_preset("uk7", 84.0, 42.0),
+    "uk6": _uk_preset("uk6", 72.0, 36.0),
 }
 """Presets by name, playing surface between the cushion noses: 9-foot 100 x 50 in (the default, ``TableSpec()``),
-8-foot 92 x 46 in, 7-foot (bar box) 78 x 39 in, 6-foot (home) 66 x 33 in."""
+8-foot 92 x 46 in, 7-foot (bar box) 78 x 39 in, 6-foot (home) 66 x 33 in; UK blackball tables for 2 in balls, 7-foot
+84 x 42 in and 6-foot 72 x 36 in (the WEPF's largest and smallest playing surfaces, 7 ft x 3 ft 6 in and
+6 ft x 3 ft)."""
+
+
+def same_balls(a: TableSpec, b: TableSpec) -> bool:
+    """Whether two tables are played with balls of one size (American 2 1/4 in, UK 2 in)."""
+    return abs(a.ball_radius - b.ball_radius) < 1e-6
 
 
 def table_preset(name: str) -> TableSpec:
-    """Return the preset table called ``name`` (``"9ft"``, ``"8ft"``, ``"7ft"`` or ``"6ft"``)."""
+    """Return the preset table called ``name`` (``"9ft"``, ``"8ft"``, ``"7ft"``, ``"6ft"``, ``"uk7"``, ``"uk6"``)."""
     try:
         return TABLE_PRESETS[name]
     except KeyError:

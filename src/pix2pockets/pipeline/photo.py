@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from pix2pockets.geometry.raster import table_to_env_pixels
-from pix2pockets.geometry.table import TableSpec
+from pix2pockets.geometry.table import TableSpec, table_preset
 from pix2pockets.pipeline.planning import ShotPlanner, default_planner, plan_shot
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
 from pix2pockets.state.ball_set import BallSet, class_name, group_name, parse_ball_set, parse_group
@@ -268,7 +268,8 @@ def suggest(
     det, chosen = clean_detections_for_set(raw, rgb, ball_set)
     wanted = parse_group(group, chosen)
     surface = read_surface(rgb, det, table_model)
-    fit = estimate_table(rgb, det, (w, h), spec, pixel_aspect=det.pixel_aspect, surface=surface)
+    base = table_preset("uk7") if chosen is BallSet.BLACKBALL else None  # 2 in balls measure a UK table
+    fit = estimate_table(rgb, det, (w, h), spec, pixel_aspect=det.pixel_aspect, surface=surface, base=base)
     spec = fit.spec
     timings["fit"] = time.perf_counter() - t
 

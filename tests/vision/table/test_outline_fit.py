@@ -173,3 +173,9 @@ def test_a_held_focal_length_stays_where_it_is_put():
     held, _, _ = camera_from_outline(outline_of(camera), camera.image_size, SPEC, focal_px=3000.0, focal_sigma=1e-3)
     assert abs(free.K[1, 1] - camera.K[1, 1]) < 0.01 * camera.K[1, 1]  # the corners pull a free one back
     assert abs(held.K[1, 1] - 3000.0) < 0.01 * 3000.0
+
+
+def test_a_size_from_the_balls_snaps_to_a_table_for_balls_of_that_size():
+    uk = table_preset("uk7")
+    assert spec_of_length(2.10, uk).name == "uk7" and spec_of_length(1.85, uk).name == "uk6"
+    assert spec_of_length(2.13).name == "7ft"  # American balls: the American presets only (uk7 is 2.13 m)

@@ -113,6 +113,7 @@ def estimate_table(
     cues: str = "all",
     pixel_aspect: float | None = None,
     surface: SurfaceOutline | None = None,
+    base: TableSpec | None = None,
 ) -> TableFit:
     """Fit the table to every cue in a photo: diamonds, cloth outline, balls.
 
@@ -127,6 +128,8 @@ def estimate_table(
             the usual export stretches of a square photo too.
         surface: the table model's playing surface (:func:`~pix2pockets.vision.table.surface.surface_outline`),
             when there is one.
+        base: without ``spec``, the table whose balls measure a fit's size without diamonds (default 9-foot; a UK
+            preset for a blackball set's 2 in balls).
 
     Returns:
         The :class:`TableFit` explaining the most cues; ``source`` says which it came from.
@@ -179,6 +182,7 @@ def estimate_table(
                     offset=0.0,
                     plane_z=0.0,
                     max_rectangle_cost=SURFACE_MAX_RECTANGLE_COST,
+                    base=base,
                 ),
                 source="surface",
             )
@@ -214,6 +218,7 @@ def estimate_table(
                 pocket_darkness=cloth.pocket_darkness,
                 cloth_mask=cloth.mask,
                 pixel_aspect=outline_aspect,
+                base=base,
             )
             on_table = explained_cues(fit, np.zeros((0, 2)), None, sure.centres).balls
             if on_table < MIN_BALLS and not (cloth.seen.all() and cloth.confidence >= MIN_CONFIDENCE_WITHOUT_BALLS):

@@ -263,6 +263,7 @@ def fit_outline(
     offset: float = CUSHION_WIDTH,
     plane_z: float | None = None,
     max_rectangle_cost: float | None = None,
+    base: TableSpec | None = None,
 ) -> TableFit:
     """Fit the table from its cloth outline.
 
@@ -284,6 +285,8 @@ def fit_outline(
             surface's own corners on the cloth).
         max_rectangle_cost: largest rectangle error accepted (default :data:`MAX_RECTANGLE_COST`); outlines whose
             corners are read more surely (the table model's) may allow more.
+        base: without ``spec``, the table whose balls measure the size and whose presets it snaps to (default
+            9-foot, American balls; a UK preset for a blackball set).
 
     Returns:
         A :class:`TableFit` with ``source="cloth"``, no matched diamonds, ``rms_px`` the corners' error.
@@ -305,7 +308,7 @@ def fit_outline(
     boxes = np.zeros((0, 4)) if ball_boxes is None else np.asarray(ball_boxes, dtype=float).reshape(-1, 4)
     dots = np.zeros((0, 2)) if diamonds is None else np.asarray(diamonds, dtype=float).reshape(-1, 2)
     dark = None if pocket_darkness is None else np.asarray(pocket_darkness, dtype=float)
-    base = spec or TableSpec()
+    base = spec or base or TableSpec()
     aspects = _aspect_hypotheses(pixel_aspect, image_size, boxes)
     ev_of = {a: _evidence(a, image_size, boxes, dots, dark, cloth_mask) for a, _ in aspects}
     hyps = _hypotheses(corners, seen, image_size, base, spec is not None, aspects, ev_of, offset, plane_z)

@@ -14,7 +14,7 @@ from dataclasses import replace
 import numpy as np
 
 from pix2pockets.geometry.camera import PinholeCamera
-from pix2pockets.geometry.table import INCH, TABLE_PRESETS, TableSpec
+from pix2pockets.geometry.table import INCH, TABLE_PRESETS, TableSpec, same_balls
 
 SNAP_TOLERANCE = 0.18
 """A table measured from the balls within this log-ratio of a preset's length is taken as that preset (real ball
@@ -63,15 +63,16 @@ def size_from_balls(
 
 
 def spec_of_length(length: float, base: TableSpec | None = None) -> TableSpec:
-    """The table of playing-surface ``length`` [m]: the nearest preset within :data:`SNAP_TOLERANCE`, else ``base``
-    (default 9-foot) resized to that length with the usual 2:1 proportions, named by its nominal size. A length
-    beyond the presets' range by more than :data:`SIZE_MARGIN` is a misread (loose ball boxes, a wrong outline) and
-    is held at that margin first."""
-    lengths = [p.length for p in TABLE_PRESETS.values()]
+    """The table of playing-surface ``length`` [m]: the nearest preset for balls of ``base``'s size (American or UK)
+    within :data:`SNAP_TOLERANCE`, else ``base`` (default 9-foot) resized to that length with the usual 2:1
+    proportions, named by its nominal size. A length beyond those presets' range by more than :data:`SIZE_MARGIN`
+    is a misread (loose ball boxes, a wrong outline) and is held at that margin first."""
+    base = base or TableSpec()
+    family = [p for p in TABLE_PRESETS.values() if same_balls(p, base)] or [base]
+    lengths = [p.length for p in family]
     length = float(np.clip(length, min(lengths) / SIZE_MARGIN, max(lengths) * SIZE_MARGIN))
-    nearest = min(TABLE_PRESETS.values(), key=lambda p: abs(math.log(p.length / length)))
+    nearest = min(family, key=lambda p: abs(math.log(p.length / length)))
     if abs(math.log(nearest.length / length)) <= SNAP_TOLERANCE:
         return nearest
-    base = base or TableSpec()
     feet = length / (12 * INCH) + 0.5  # nominal feet: the playing length plus about half a foot of rails
     return replace(base, name=f"{feet:.1f}ft (measured)", length=length, width=length / 2)
