@@ -235,3 +235,15 @@ def test_simulation_failure_truncates_or_raises() -> None:
         strict.step(np.array([0, 0]))
     with pytest.raises(ValueError, match="sim_errors"):
         PoolEnv(balls="two", physics=_FailingSim(), sim_errors="ignore")
+
+
+def test_a_blackball_env_plays_on_a_uk_table_with_reds_and_yellows() -> None:
+    env = gym.make("pix2pockets/AllBall-v0", ball_set="blackball", **DEFAULT_PHYSICS)
+    gym_check_env(env.unwrapped, skip_render_check=True)
+    assert env.unwrapped.spec_table.name == "uk7" and 2 * env.unwrapped.spec_table.ball_radius == pytest.approx(0.0508)
+    _, info = env.reset(seed=0, options={"layout": eight_ball_rack(env.unwrapped.spec_table), "group": "yellows"})
+    assert env.unwrapped.group is Group.STRIPES and info == {"group": "yellows", "ball_set": "blackball"}
+    assert {env.reset(seed=s)[1]["group"] for s in range(12)} == {"reds", "yellows"}
+    with pytest.raises(ValueError, match="unknown group 'solids' for the blackball set"):
+        env.reset(seed=0, options={"group": "solids"})
+    env.close()

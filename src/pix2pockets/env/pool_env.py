@@ -25,6 +25,7 @@ from pix2pockets.geometry.table import TableSpec, table_preset
 from pix2pockets.physics import Simulator, make_simulator
 from pix2pockets.rules import GameState, Outcome, own_balls, turn_outcome
 from pix2pockets.state import BallClass, Group, Shot, TableLayout, random_layout
+from pix2pockets.state.ball_set import BallSet, group_name, parse_ball_set, parse_group
 
 DEFAULT_PHYSICS = "event"
 """Simulator backend used when ``physics`` is not given."""
@@ -108,9 +109,9 @@ class PoolEnv(gym.Env):
     ## Starting State
     Random legal layouts (no overlap, centres a ball radius inside the cushions and clear of every
     pocket) drawn from ``self.np_random``; in the all-ball variant the shooter's group is drawn too.
-    ``reset(options={"layout": TableLayout, "group": "solids" | "stripes"})`` starts from a given layout
-    (e.g. read from a photo); the 1-ball variant accepts only a lone cue ball, the others need the cue
-    ball and the 8.
+    ``reset(options={"layout": TableLayout, "group": "solids" | "stripes" | "reds" | "yellows"})`` starts from a
+    given layout (e.g. read from a photo); the 1-ball variant accepts only a lone cue ball, the others need the
+    cue ball and the 8.
 
     ## Episode End
     Terminated: in ``mode="turn"`` (default) at the first shot that does not earn another shot, or at a
@@ -128,8 +129,13 @@ class PoolEnv(gym.Env):
     * ``physics``: simulator backend name (``"event"``, the default; ``"paper"``: the paper's own environment
       dynamics on its table; ``"pymunk"``) or a ``Simulator``; ``physics_params``: keyword parameters for
       the backend.
-    * ``table``: preset name (``"9ft"``, ``"8ft"``, ``"7ft"``) or a ``TableSpec``; default the 9-foot table,
-      the paper's (:func:`~pix2pockets.geometry.raster.paper_table`) with ``physics="paper"``.
+    * ``table``: preset name (``"9ft"``, ``"8ft"``, ``"7ft"``, ``"6ft"``, ``"uk7"``, ``"uk6"``) or a
+      ``TableSpec``; default the 9-foot table, the UK 7-foot one for a blackball set, the paper's
+      (:func:`~pix2pockets.geometry.raster.paper_table`) with ``physics="paper"``.
+    * ``ball_set``: ``"american"`` (solids and stripes) or ``"blackball"`` (reds and yellows, which play as the
+      solids and the stripes; the reset info and the ``group`` option use their names). The turn is judged the
+      same way: WEPF blackball rules end a turn, foul or not, where these rules do (their foul penalty, two visits
+      for the opponent, lies beyond one turn).
     * ``n_angles``, ``n_powers``, ``min_speed``, ``max_speed``: the action mapping (defaults 0.2-8.0 m/s;
       the paper's power levels with ``physics="paper"``).
     * ``aim_noise_deg``, ``speed_noise``: execution noise (0 = none).
@@ -171,12 +177,14 @@ class PoolEnv(gym.Env):
         render_mode: str | None = None,
         render_width: int = 800,
         sim_errors: str = "truncate",
+        ball_set: str = "american",
     ) -> None:
         self.setup = BallSetup(balls)
         self.mode = EpisodeMode(mode)
+        self.ball_set = parse_ball_set(ball_set)
         paper = physics == "paper"
         if table is None:
-            table = paper_table() if paper else "9ft"
+            table = paper_table() if paper else ("uk7" if self.ball_set is BallSet.BLACKBALL else "9ft")
         self.spec_table = table if isinstance(table, TableSpec) else table_preset(table)
         default_actions = min_speed is None and max_speed is None and (n_angles, n_powers) == (36_000, 30)
         if paper and default_actions:
@@ -222,6 +230,10 @@ class PoolEnv(gym.Env):
         options = dict(options or {})
         layout = options.pop("layout", None)
         group = options.pop("group", None)
+        if group is not None:
+            group = parse_group(group, self.ball_set)
+            if group == "auto":
+                raise ValueError("reset option 'group' names a group (solids or stripes; reds or yellows), not auto")
         if options:
             raise ValueError(f"unknown reset options {sorted(options)}; known: layout, group")
         if layout is None:
@@ -239,7 +251,7 @@ class PoolEnv(gym.Env):
         self._mask = None
         if self.render_mode == "human":
             self.render()
-        return self._obs(), {"group": self.group.value}
+        return self._obs(), {"group": group_name(self.group, self.ball_set), "ball_set": self.ball_set.value}
 
     def step(self, action: np.ndarray) -> tuple[np.ndarray, float, bool, bool, dict]:
         if self.layout is None:
