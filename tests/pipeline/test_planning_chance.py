@@ -59,3 +59,21 @@ def test_default_samples_and_bad_skill():
     assert CHANCE_SAMPLES >= 200
     with pytest.raises(ValueError, match="unknown noise model"):
         default_planner(skill="wizard")
+
+
+def test_a_pot_the_search_found_by_simulation_is_named_other(layout):
+    from pix2pockets.pipeline.planning import advice_from_candidate
+    from pix2pockets.planner.base import Suggestion
+    from pix2pockets.state import Group, Shot
+
+    target = layout.indices_of(Group.SOLIDS.ball_class)[0]
+    candidate = Suggestion(Shot(0.3, 2.0), target=target, pocket=2, kind=None)
+    advice = advice_from_candidate(candidate, layout, Group.SOLIDS)
+    assert advice.kind == "other" and ", other," in advice.describe(tuple(_balls(layout)))
+
+
+def _balls(layout):
+    from pix2pockets.pipeline.result import LocatedBall
+
+    for b, xy in zip(layout.balls, layout.positions, strict=True):
+        yield LocatedBall(b.ball_class.value, 1.0, (0, 0, 1, 1), (0, 0), tuple(xy), (0, 0), None, None)

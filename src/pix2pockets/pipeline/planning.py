@@ -123,6 +123,11 @@ def _value_of(candidate: Any) -> float:
     return float(p) if p is not None else float(getattr(candidate, "value", 0.0))
 
 
+OTHER_KIND = "other"
+"""The kind of a pot the search found by simulation that is none of direct, bank or kick (a combination, a carom,
+a path off several cushions)."""
+
+
 def advice_from_candidate(candidate: Any, layout: TableLayout, group: Group) -> ShotAdvice:
     """Turn a planner candidate into a :class:`ShotAdvice` with drawable paths."""
     spec = layout.spec
@@ -166,7 +171,7 @@ def advice_from_candidate(candidate: Any, layout: TableLayout, group: Group) -> 
     return ShotAdvice(
         target_ball=None if safety else int(target),
         pocket=None if safety else spec.pockets[pocket].name,
-        kind=None if safety else kind,
+        kind=None if safety else (kind or OTHER_KIND),
         cue_angle=float(shot.angle),
         speed=float(shot.speed),
         success_probability=None if p is None else float(p),
