@@ -7,6 +7,7 @@ to ``ROOT/<name>/eval.json`` (re-done when the model has more steps than the eva
 Usage:
     PYTHONPATH=src python scripts/rl_grid.py list
     PYTHONPATH=src python scripts/rl_grid.py train --steps 500000 [--only one-ppo two-td3 ...] [--env one]
+        [--ray [ADDRESS]] [--workers N]   # one run per Ray worker (local instance, or a cluster's address)
     PYTHONPATH=src python scripts/rl_grid.py evaluate --episodes 1000
     PYTHONPATH=src python scripts/rl_grid.py table            # markdown for docs/results.md
     PYTHONPATH=src python scripts/rl_grid.py plot --out docs/rl_learning_curves.png
@@ -97,28 +98,41 @@ def agent_file(run_dir: Path) -> Path | None:
     return max(files, key=model_steps) if files else None
 
 
+def train_args(run: Run, root: str, steps: int, seed: int, checkpoint_every: int) -> list[str]:
+    """The ``pix2pockets rl train`` arguments of one run (resumable: ``--resume`` continues a checkpoint)."""
+    out = Path(root) / run.name
+    return [
+        "rl", "train", *run.train_args(), "--steps", str(steps), "--seed", str(seed), "--out", str(out),
+        "--resume", "--checkpoint-every", str(checkpoint_every), "--no-progress",
+    ]  # fmt: skip
+
+
+def train_on_worker(argv: list[str]) -> str:
+    """One run on a Ray worker: ``pix2pockets rl train`` in a subprocess of that worker's machine."""
+    done = subprocess.run([sys.executable, "-m", "pix2pockets", *argv], capture_output=True, text=True)
+    if done.returncode != 0:
+        raise RuntimeError(f"pix2pockets {' '.join(argv)} failed: {done.stderr.strip().splitlines()[-1:]}")
+    return argv[argv.index("--out") + 1]
+
+
 def do_train(args: argparse.Namespace) -> None:
+    todo = []
     for run in select(args):
-        out = Path(args.root) / run.name
-        model = out / "model.zip"
+        model = Path(args.root) / run.name / "model.zip"
         if model.exists() and model_steps(model) >= args.steps:
             print(f"= {run.name}: done ({model_steps(model)} steps)")
             continue
-        cli(
-            "rl",
-            "train",
-            *run.train_args(),
-            "--steps",
-            str(args.steps),
-            "--seed",
-            str(args.seed),
-            "--out",
-            str(out),
-            "--resume",
-            "--checkpoint-every",
-            str(args.checkpoint_every),
-            "--no-progress",
-        )
+        todo.append(train_args(run, args.root, args.steps, args.seed, args.checkpoint_every))
+    if args.ray is None:
+        for argv in todo:
+            cli(*argv)
+        return
+    # one run per Ray worker; the runs' folders (--root) must be on storage every worker sees
+    from pix2pockets.scale.ray_pool import RayPool
+
+    with RayPool(args.ray, args.workers) as pool:
+        for out in pool.map(train_on_worker, todo):
+            print(f"+ {out}: trained", flush=True)
 
 
 def _rl_evaluate(out: Path, args: argparse.Namespace, *how: str, force: bool = False) -> None:
@@ -264,6 +278,16 @@ def main() -> None:
         default=True,
         help="also evaluate uniform-random play over each hitpoint mask (Table 3's untrained reference)",
     )
+    parser.add_argument(
+        "--ray",
+        nargs="?",
+        const="local",
+        default=None,
+        metavar="ADDRESS",
+        help="train: one run per Ray worker, on a local instance (no ADDRESS) or a running cluster (ADDRESS); "
+        "--root must then be on storage every worker sees",
+    )
+    parser.add_argument("--workers", type=int, default=None, help="CPUs of the local Ray instance (default: all)")
     parser.add_argument("--out", default="docs/rl_learning_curves.png")
     parser.add_argument("--window", type=int, default=2000)
     args = parser.parse_args()
