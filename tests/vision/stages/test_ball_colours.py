@@ -95,3 +95,18 @@ def test_a_sure_black_stays_the_black():
     img, boxes = table_photo(["yellow", "pale-black", "black", "white"])
     det = Detections(boxes, np.array([0.6, 0.6, 0.9, 0.9]), np.array([2, 2, 1, 0]), (boxes[:, :2] + boxes[:, 2:]) / 2)
     assert blackball_classes(img, det).class_id[2] == BLACK_ID
+
+
+def test_all_fourteen_object_balls_of_a_blackball_set_survive_the_caps():
+    from pix2pockets.pipeline.photo import clean_detections, clean_detections_for_set
+
+    names = ["red", "yellow"] * 7 + ["black", "white"]
+    img, boxes = table_photo(names)
+    raw = detections(boxes, [2] * 14 + [1, 0], conf=0.7)  # the detector calls every red and yellow a solid
+    assert (clean_detections(raw).class_id == SOLID_ID).sum() == 7  # an American set holds 7 solids
+    det, ball_set = clean_detections_for_set(raw, img, "auto")
+    assert ball_set is BallSet.BLACKBALL
+    assert det.class_id.tolist().count(SOLID_ID) == 7 and det.class_id.tolist().count(STRIPE_ID) == 7
+    assert det.class_id.tolist().count(BLACK_ID) == 1 and len(det) == 16
+    same, chosen = clean_detections_for_set(raw, img, "american")
+    assert chosen is BallSet.AMERICAN and len(same) == len(clean_detections(raw))
