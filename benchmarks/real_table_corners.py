@@ -34,41 +34,21 @@ import numpy as np
 from pix2pockets.geometry import table_preset
 from pix2pockets.pipeline.photo import clean_detections, default_detector, read_surface, suggest
 from pix2pockets.vision.detect.detections import Detections
-from pix2pockets.vision.image_io import read_image_rgb
+from pix2pockets.vision.image_io import image_grid, read_image_rgb
 from pix2pockets.vision.table.estimate import estimate_table
 from pix2pockets.vision.table.fit import TableFit, TableFitError
 from pix2pockets.vision.table.outline_camera import CUSHION_WIDTH, outline_rectangle
+from pix2pockets.vision.table.quad_geometry import quad_length, quad_of_point_sets
 
 HERE = Path(__file__).resolve().parent
 DEFAULT_DATA = HERE.parent.parent / "shared" / "data" / "real-snooker-vision"
 DEFAULT_LABELS = HERE / "data" / "real_table_corners.json"
 
 
-def fit_line(points: np.ndarray) -> np.ndarray:
-    """Homogeneous line (a, b, c) through the points by total least squares."""
-    centre = points.mean(axis=0)
-    normal = np.linalg.svd(points - centre)[2][1]
-    return np.array([normal[0], normal[1], -normal @ centre])
-
-
-def labelled_corners(lines: list) -> np.ndarray:
-    """The labelled corners (4, 2) [px]: crossings of consecutive cloth-edge lines."""
-    fitted = [fit_line(np.asarray(line, dtype=float)) for line in lines]
-    corners = [np.cross(fitted[k - 1], fitted[k]) for k in range(4)]
-    return np.array([c[:2] / c[2] for c in corners])
-
-
 def fitted_outline(fit: TableFit) -> tuple[np.ndarray, np.ndarray]:
     """The fitted cloth outline: its corners in the photo (4, 2) [px] and on the table (4, 2) [m]."""
     table_xy = outline_rectangle(fit.spec, CUSHION_WIDTH)
     return fit.camera.project_table(table_xy, fit.spec.cushion_height), table_xy
-
-
-def table_length_px(corners: np.ndarray) -> float:
-    """The table's length in the photo [px]: the larger mean length of the quadrilateral's two pairs of opposite
-    sides."""
-    sides = np.linalg.norm(np.roll(corners, -1, axis=0) - corners, axis=1)
-    return float(max(sides[0] + sides[2], sides[1] + sides[3]) / 2)
 
 
 def match_corners(labels_px: np.ndarray, fitted_px: np.ndarray) -> np.ndarray:
@@ -83,7 +63,7 @@ def corner_errors(labels_px: np.ndarray, fitted_px: np.ndarray) -> np.ndarray:
     if not np.all(np.isfinite(fitted_px)):
         return np.full(4, np.inf)
     order = match_corners(labels_px, fitted_px)
-    return np.linalg.norm(fitted_px[order] - labels_px, axis=1) / table_length_px(labels_px)
+    return np.linalg.norm(fitted_px[order] - labels_px, axis=1) / quad_length(labels_px)
 
 
 def table_errors(labels_px: np.ndarray, fitted_px: np.ndarray, table_xy: np.ndarray) -> np.ndarray:
@@ -126,14 +106,6 @@ def draw_fit(image_rgb: np.ndarray, labels_px: np.ndarray, fitted_px: np.ndarray
     return out
 
 
-def contact_sheet(images: list[np.ndarray], tile: int = 240, columns: int = 6) -> np.ndarray:
-    """The images as tiles, ``columns`` to a row."""
-    tiles = [cv2.resize(image, (tile, tile), interpolation=cv2.INTER_AREA) for image in images]
-    while len(tiles) % columns:
-        tiles.append(np.zeros((tile, tile, 3), np.uint8))
-    return np.vstack([np.hstack(tiles[i : i + columns]) for i in range(0, len(tiles), columns)])
-
-
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--data", type=Path, default=DEFAULT_DATA, help="the real-snooker-vision folder")
@@ -156,7 +128,7 @@ def main() -> None:
             raise SystemExit(f"{path} not found: pass --data, the real-snooker-vision folder")
         image = read_image_rgb(path)
         size = (image.shape[1], image.shape[0])
-        labels_px = labelled_corners(entry["lines"])
+        labels_px = quad_of_point_sets(entry["lines"])
         t = time.perf_counter()
         raw = detector.detect(image)
         det = clean_detections(raw)
@@ -233,7 +205,7 @@ def main() -> None:
         why = r.get("error") or f"worst corner {max(r['corner_errors']):.1%}"
         print(f"  not right: {Path(r['image']).name[:24]:<24} {why}")
     if args.sheet:
-        cv2.imwrite(str(args.sheet), contact_sheet(drawn))
+        cv2.imwrite(str(args.sheet), image_grid(drawn, 6, (240, 240)))
     if args.json:
         Path(args.json).write_text(json.dumps({**summary, "rows": rows}, indent=1) + "\n")
 

@@ -27,12 +27,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 from pix2pockets.pipeline.photo import clean_detections, default_detector, read_surface
 from pix2pockets.vision.table.estimate import estimate_table
 from pix2pockets.vision.table.fit import TableFitError
-
-
-def length_px(corners: np.ndarray) -> float:
-    """The table's length in the photo [px]: the larger mean length of the outline's two pairs of opposite sides."""
-    sides = np.linalg.norm(np.roll(corners, -1, axis=0) - corners, axis=1)
-    return float(max(sides[0] + sides[2], sides[1] + sides[3]) / 2)
+from pix2pockets.vision.table.quad_geometry import quad_length
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -76,7 +71,7 @@ def main(argv: list[str] | None = None) -> int:
             (np.linalg.norm(np.roll(fitted, r, axis=0) - truth, axis=1) for r in (0, 2)),
             key=lambda e: float(np.nanmax(np.where(inside, e, 0.0))),
         )
-        rel = errors / length_px(truth)
+        rel = errors / quad_length(truth)
         row.update(fit=True, source=fit.source, errors=[round(float(e), 5) for e in rel[inside]])
         rows.append(row)
 

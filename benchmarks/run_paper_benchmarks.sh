@@ -5,23 +5,16 @@ set -u
 OUT=${1:-benchmarks/results}
 NO=${2:-1000}
 NS=${3:-1000}
-export OMP_NUM_THREADS=1 PYTHONPATH=src
-PY=${PY:-python}
-mkdir -p "$OUT"
-ev() { # name args...
-  local name=$1; shift
-  echo "=== $name: $*"
-  /usr/bin/time -f "%e s wall" $PY -m pix2pockets evaluate planner --physics paper "$@" --no-progress --force \
-    --json "$OUT/$name.json" || echo "FAILED $name"
-}
+source "$(dirname "$0")/evaluate_runs.sh"
+evp() { local name=$1; shift; ev "$name" --physics paper "$@"; }  # every run here is on the paper physics
 # the reference protocol: layout i after np.random.seed(12345 + i), the first 1000 / 300 layouts
-ev "paper-oracle" --planner oracle --layouts $NO
-ev "paper-oracle-mirror" --planner oracle-mirror --layouts $NO
-ev "paper-oracle-mirror-300" --planner oracle-mirror --layouts 300
+evp "paper-oracle" --planner oracle --layouts $NO
+evp "paper-oracle-mirror" --planner oracle-mirror --layouts $NO
+evp "paper-oracle-mirror-300" --planner oracle-mirror --layouts 300
 # the paper's environment with its defects switched back on
-ev "paper-oracle-defects" --planner oracle --layouts $NO --paper-defects spawn-in-pocket,early-eight-wins
-ev "paper-oracle-mirror-defects" --planner oracle-mirror --layouts $NO --paper-defects spawn-in-pocket,early-eight-wins
-ev "paper-search" --planner search --layouts $NS
+evp "paper-oracle-defects" --planner oracle --layouts $NO --paper-defects spawn-in-pocket,early-eight-wins
+evp "paper-oracle-mirror-defects" --planner oracle-mirror --layouts $NO --paper-defects spawn-in-pocket,early-eight-wins
+evp "paper-search" --planner search --layouts $NS
 echo "=== physics check against a pymunk re-creation of the paper's world"
 $PY benchmarks/paper_pymunk_check.py --shots 500 --json "$OUT/paper-pymunk-check.json"
 echo "=== done"

@@ -6,14 +6,7 @@ OUT=${1:-benchmarks/results}
 NO=${2:-1000}
 NS=${3:-1000}
 NR=${4:-1000}
-export OMP_NUM_THREADS=1 PYTHONPATH=src
-PY=${PY:-python}
-mkdir -p "$OUT"
-ev() { # name args...
-  local name=$1; shift
-  echo "=== $name: $*"
-  $PY -m pix2pockets evaluate planner "$@" --no-progress --force --json "$OUT/$name.json" || echo "FAILED $name"
-}
+source "$(dirname "$0")/evaluate_runs.sh"
 ev "event-none-search" --planner search --balls 16 --layouts $NS --seed 0 --noise none --physics event
 ev "event-fastfiz-search" --planner search --balls 16 --layouts $NS --seed 0 --noise fastfiz --physics event
 ev "event-fastfiz-search-seed1" --planner search --balls 16 --layouts $NS --seed 1 --noise fastfiz --physics event

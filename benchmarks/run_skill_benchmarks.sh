@@ -6,14 +6,7 @@ set -u
 OUT=${1:-benchmarks/results}
 N=${2:-1000}
 SEED=${3:-0}
-export OMP_NUM_THREADS=1 PYTHONPATH=src
-PY=${PY:-python}
-mkdir -p "$OUT"
-ev() { # name args...
-  local name=$1; shift
-  echo "=== $name: $*"
-  $PY -m pix2pockets evaluate planner "$@" --no-progress --force --json "$OUT/$name.json" || echo "FAILED $name"
-}
+source "$(dirname "$0")/evaluate_runs.sh"
 for skill in pro club beginner; do
   ev "skill-$skill-search-n$N-s$SEED" --planner search --balls 16 --layouts "$N" --seed "$SEED" --skill "$skill"
   ev "skill-$skill-oracle-n$N-s$SEED" --planner oracle --balls 16 --layouts "$N" --seed "$SEED" --skill "$skill"

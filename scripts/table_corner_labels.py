@@ -30,6 +30,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from pix2pockets.vision.image_io import image_grid
+from pix2pockets.vision.table.quad_geometry import quad_of_point_sets
+
 HERE = Path(__file__).resolve().parent
 DEFAULT_DATA = HERE.parent.parent / "shared" / "data" / "real-snooker-vision"
 
@@ -102,29 +105,11 @@ def parse_lines(text: str) -> list[np.ndarray]:
     return lines
 
 
-def fit_line(points: np.ndarray) -> np.ndarray:
-    """Homogeneous line (a, b, c), a x + b y + c = 0, fitted to the points by total least squares."""
-    centre = points.mean(axis=0)
-    _, _, vt = np.linalg.svd(points - centre)
-    normal = vt[1]
-    return np.array([normal[0], normal[1], -normal @ centre])
-
-
-def corners_from_lines(lines: list[np.ndarray]) -> np.ndarray:
-    """The four corners (4, 2) where consecutive cushion lines (in order round the table) meet [px]."""
-    fitted = [fit_line(np.asarray(line, dtype=float)) for line in lines]
-    corners = []
-    for k in range(4):
-        p = np.cross(fitted[k - 1], fitted[k])
-        corners.append(p[:2] / p[2])
-    return np.array(corners)
-
-
 def check_image(image: np.ndarray, lines: list[np.ndarray], scale: int = 2) -> np.ndarray:
     """The photo at ``scale`` times with the cushion lines drawn through their points to the corners (green), the
     points (magenta) and the corners (red, numbered)."""
     big = cv2.resize(image, None, fx=scale, fy=scale, interpolation=cv2.INTER_CUBIC)
-    corners = corners_from_lines(lines)
+    corners = quad_of_point_sets(lines)
     quad = np.round(corners * scale).astype(np.int32)
     cv2.polylines(big, [quad], True, (0, 255, 0), 1, cv2.LINE_AA)
     for line in lines:
@@ -145,16 +130,11 @@ def draw_labels(image: np.ndarray, corners: np.ndarray) -> np.ndarray:
     return out
 
 
-def contact_sheet(images: list[np.ndarray], names: list[str], tile: int = 200, columns: int = 8) -> np.ndarray:
-    """Tiles of the images, each named by its first 10 characters."""
-    tiles = []
-    for image, name in zip(images, names, strict=True):
-        t = cv2.resize(image, (tile, tile), interpolation=cv2.INTER_AREA)
-        cv2.putText(t, name[:10], (3, 14), 0, 0.45, (0, 255, 255), 1)
-        tiles.append(t)
-    while len(tiles) % columns:
-        tiles.append(np.zeros((tile, tile, 3), np.uint8))
-    return np.vstack([np.hstack(tiles[i : i + columns]) for i in range(0, len(tiles), columns)])
+def named(image: np.ndarray, name: str, tile: int = 200) -> np.ndarray:
+    """The image as a ``tile`` square, named by the first 10 characters of ``name``."""
+    t = cv2.resize(image, (tile, tile), interpolation=cv2.INTER_AREA)
+    cv2.putText(t, name[:10], (3, 14), 0, 0.45, (0, 255, 255), 1)
+    return t
 
 
 def main() -> None:
@@ -184,7 +164,7 @@ def main() -> None:
         else:
             lines = parse_lines(args.lines)
             out = check_image(image, lines)
-            print(" ".join(f"{x:.1f},{y:.1f}" for x, y in corners_from_lines(lines)))
+            print(" ".join(f"{x:.1f},{y:.1f}" for x, y in quad_of_point_sets(lines)))
         cv2.imwrite(str(args.out), out)
         return
     labels = json.loads(args.labels.read_text())
@@ -194,14 +174,14 @@ def main() -> None:
         if not entry.get("whole_table"):
             continue
         image = cv2.imread(str(args.data / entry["image"]))
-        corners = corners_from_lines(entry["lines"])
+        corners = quad_of_point_sets(entry["lines"])
         picture = draw_labels(image, corners)
         name = Path(entry["image"]).name.split(".rf.")[0]
         cv2.imwrite(str(args.out / f"{name}.png"), picture)
         drawn.append(picture)
         names.append(name)
     if args.sheet is not None and drawn:
-        cv2.imwrite(str(args.sheet), contact_sheet(drawn, names))
+        cv2.imwrite(str(args.sheet), image_grid([named(d, n) for d, n in zip(drawn, names, strict=True)], 8))
     print(f"{len(drawn)} labelled photos drawn in {args.out}")
 
 

@@ -20,7 +20,7 @@ from pix2pockets.geometry.raster import table_to_env_pixels
 from pix2pockets.geometry.table import TableSpec, table_preset
 from pix2pockets.pipeline.planning import ShotPlanner, default_planner, plan_shot
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
-from pix2pockets.state.ball_set import BallSet, class_name, group_name, parse_ball_set, parse_group
+from pix2pockets.state.ball_set import BallSet, class_name, group_name, parse_ball_set, parse_group, set_of_group
 from pix2pockets.vision.classes import DETECTION_CAPS, ball_class_of
 from pix2pockets.vision.detect.base import Detector
 from pix2pockets.vision.detect.detections import Detections
@@ -28,15 +28,7 @@ from pix2pockets.vision.detect.postprocess import DEFAULT_NMS_IOU, apply_caps, b
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.locate.balls import LocateMethod, locate_balls
 from pix2pockets.vision.stages.ball_classifier import NUMBER_PROBS
-from pix2pockets.vision.stages.ball_colours import (
-    RED,
-    SOLID_ID,
-    STRIPE_ID,
-    YELLOW,
-    ball_colours,
-    blackball_classes,
-    read_ball_set,
-)
+from pix2pockets.vision.stages.ball_colours import BALL_COLOUR, RED, YELLOW, blackball_classes, read_ball_set
 from pix2pockets.vision.stages.ball_numbers import BallNumberReader, assign_numbers
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.estimate import estimate_table
@@ -54,13 +46,6 @@ SURE_BALL_SCORE = 0.45
 photos the detector's class heads and the ball classifier often disagree about a ball (a real 8 the classifier is
 sure of, the black head not), and their joint class score then falls under :data:`MIN_CONFIDENCE` although the ball
 is plainly there (``docs/benchmarks-detector.md``)."""
-GROUP_SETS = {
-    "solids": BallSet.AMERICAN,
-    "stripes": BallSet.AMERICAN,
-    "reds": BallSet.BLACKBALL,
-    "yellows": BallSet.BLACKBALL,
-}
-"""The set a group's name implies when the set is read from the photo."""
 LOOSE_OBJECT_CAPS = (*DETECTION_CAPS[:2], 14, 14, *DETECTION_CAPS[4:])
 """Caps while a blackball set's object balls are still to be named by colour: room for all 14 in either class."""
 COLOURED_BALL_SCORE = 0.15
@@ -137,10 +122,8 @@ def clean_detections_for_set(
     if chosen is BallSet.AMERICAN:
         return clean_detections(raw), chosen
     named = apply_caps(blackball_classes(rgb, loose))
-    object_ball = named.is_ball & np.isin(named.class_id, (SOLID_ID, STRIPE_ID))
-    coloured = np.zeros(len(named), dtype=bool)
-    coloured[object_ball] = np.isin(ball_colours(rgb, named.boxes[object_ball]), (RED, YELLOW))
-    return _confident(named, raw, coloured & (named.confidence >= COLOURED_BALL_SCORE)), chosen
+    coloured = np.isin(named.data[BALL_COLOUR], (RED, YELLOW)) & (named.confidence >= COLOURED_BALL_SCORE)
+    return _confident(named, raw, coloured), chosen
 
 
 def _confident(det: Detections, raw: Detections, keep: np.ndarray | None = None) -> Detections:
@@ -263,8 +246,8 @@ def suggest(
     timings["detect"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    if ball_set == "auto" and str(group).lower() in GROUP_SETS:
-        ball_set = GROUP_SETS[str(group).lower()]
+    if ball_set == "auto":  # a group of one set names the set
+        ball_set = set_of_group(group) or ball_set
     det, chosen = clean_detections_for_set(raw, rgb, ball_set)
     wanted = parse_group(group, chosen)
     surface = read_surface(rgb, det, table_model)

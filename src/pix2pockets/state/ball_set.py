@@ -68,6 +68,14 @@ def group_choices(ball_set: BallSet | None = None) -> tuple[str, ...]:
     return ("auto", *(name for s in sets for name in _GROUP_NAMES[s].values()))
 
 
+def set_of_group(name: str) -> BallSet | None:
+    """The set whose group is called ``name`` (``reds`` -> blackball), ``None`` for ``auto`` or no group."""
+    for ball_set, names in _GROUP_NAMES.items():
+        if str(name).lower() in names.values():
+            return ball_set
+    return None
+
+
 def parse_group(value: str | Group, ball_set: BallSet = BallSet.AMERICAN) -> Group | str:
     """A group from a user's name for it in ``ball_set`` (``auto`` stays ``"auto"``).
 

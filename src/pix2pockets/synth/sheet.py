@@ -16,6 +16,7 @@ import cv2
 import numpy as np
 
 from pix2pockets.synth.renderer import render
+from pix2pockets.vision.image_io import image_grid
 
 CELL = (400, 225)
 DEFAULT_REAL = (
@@ -62,10 +63,7 @@ def contact_sheet(seeds: Sequence[int], real_paths: Sequence[Path], size: tuple[
         if bgr is None:
             raise ValueError(f"cannot read real photo {p}")
         cells.append(_caption(_letterbox(cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB), CELL), "REAL photo (snooker-vision)"))
-    while len(cells) % 4:
-        cells.append(np.zeros((CELL[1], CELL[0], 3), np.uint8))
-    rows = [np.hstack(cells[i : i + 4]) for i in range(0, len(cells), 4)]
-    return np.vstack(rows)
+    return image_grid(cells, 4)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -59,6 +59,19 @@ def probe_image(data: bytes, name: str = "upload", max_pixels: int = MAX_PIXELS)
         raise ValueError(f"cannot read image {name} (truncated or corrupt): {err}") from err
 
 
+def image_grid(images: list[np.ndarray], columns: int, tile: tuple[int, int] | None = None) -> np.ndarray:
+    """The images side by side, ``columns`` to a row, each resized to ``tile`` (width, height) [px] when given
+    (otherwise they must share one size); the last row is filled with black."""
+    import cv2
+
+    cells = [cv2.resize(im, tile, interpolation=cv2.INTER_AREA) if tile else im for im in images]
+    if not cells:
+        raise ValueError("image_grid needs at least one image")
+    while len(cells) % columns:
+        cells.append(np.zeros_like(cells[0]))
+    return np.vstack([np.hstack(cells[i : i + columns]) for i in range(0, len(cells), columns)])
+
+
 def _too_large(name: str, pixels: int | None, max_pixels: int, size: str = "") -> ValueError:
     if pixels is not None and pixels <= max_pixels:  # refused by Pillow's own, lower guard
         return ValueError(f"image {name} is too large for the image decoder ({size or pixels} pixels)")

@@ -59,6 +59,8 @@ BLACK_CANDIDATE_SCORE = 0.25
 
 RED, YELLOW, OTHER, NONE = 0, 1, 2, 3
 """Colours :func:`ball_colours` returns (``NONE``: too few coloured pixels, e.g. the cue ball or the black)."""
+BALL_COLOUR = "ball_colour"
+"""``Detections.data`` key of the colours :func:`blackball_classes` read."""
 
 
 def _ring(rgb: np.ndarray, box: np.ndarray, inner: float, outer: float) -> np.ndarray:
@@ -149,7 +151,8 @@ def read_ball_set(rgb: np.ndarray, det: Detections) -> BallSet:
 def blackball_classes(rgb: np.ndarray, det: Detections) -> Detections:
     """The detections with every red object ball classed solid and every yellow one stripe (a blackball set's
     reds and yellows); balls of no clear colour keep their class. Numbers read by the detector are dropped
-    (blackball balls carry none).
+    (blackball balls carry none); ``data[BALL_COLOUR]`` holds each object ball's colour (:data:`NONE` for the
+    others).
 
     Unless the detector is sure of a black (:data:`SURE_BLACK`), the black is found among the other balls: where one
     colour counts more than 7 balls, the blackest of them (a black mirroring the room can look yellow throughout);
@@ -177,5 +180,7 @@ def blackball_classes(rgb: np.ndarray, det: Detections) -> Detections:
         if black is not None:
             class_id[blacks] = STRIPE_ID  # unsure blacks that lose play as object balls
             class_id[black] = BLACK_ID
+    colour = np.full(len(det), NONE)
+    colour[objects] = colours
     data = {k: v for k, v in det.data.items() if k != "number_probs"}
-    return replace(det, class_id=class_id, data=data)
+    return replace(det, class_id=class_id, data={**data, BALL_COLOUR: colour})

@@ -34,7 +34,7 @@ from pix2pockets.vision.table.cloth_region import (
     find_candidates,
     lab_of,
     on_border,
-    spreads,
+    plain_distance,
 )
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.quad_geometry import enclosing_quad as enclosing_quad  # re-exported
@@ -149,13 +149,7 @@ def _refine_lines(
             continue
         pts = pts[ok].astype(np.float32)
         samples = cv2.remap(rgb, pts[:, :, 0], pts[:, :, 1], cv2.INTER_LINEAR)
-        lab = lab_of(samples)
-        l_spread, c_spread = spreads(colour)  # a plain distance: the edge is where any channel changes
-        dist = np.sqrt(
-            ((lab[:, :, 0] - colour[0]) / l_spread) ** 2
-            + ((lab[:, :, 1] - colour[1]) / c_spread) ** 2
-            + ((lab[:, :, 2] - colour[2]) / c_spread) ** 2
-        )
+        dist = plain_distance(lab_of(samples), colour)  # the edge is where any channel changes
         # the edge: the steepest rise of the colour distance along the outward normal
         grad = np.diff(cv2.GaussianBlur(dist, (1, 5), 0), axis=1)
         j = np.argmax(grad, axis=1)

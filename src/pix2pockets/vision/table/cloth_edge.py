@@ -23,7 +23,7 @@ from scipy.optimize import least_squares
 
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.table import TableSpec
-from pix2pockets.vision.table.cloth_region import lab_of, spreads
+from pix2pockets.vision.table.cloth_region import lab_of, plain_distance
 from pix2pockets.vision.table.fit import TableFit
 from pix2pockets.vision.table.outline_camera import (
     CUSHION_WIDTH,
@@ -31,7 +31,7 @@ from pix2pockets.vision.table.outline_camera import (
     head_rail_convention,
     outline_rectangle,
 )
-from pix2pockets.vision.table.quad_geometry import line_through, quad_of_lines, robust_line
+from pix2pockets.vision.table.quad_geometry import line_through, quad_length, quad_of_lines, robust_line
 
 SAMPLES = 48
 """Profiles searched along each side."""
@@ -88,13 +88,7 @@ def _distance(rgb: np.ndarray, pts: np.ndarray, colour: np.ndarray) -> np.ndarra
     h, w = rgb.shape[:2]
     flat = pts.reshape(-1, 1, 2).astype(np.float32)
     samples = cv2.remap(rgb, flat[..., 0], flat[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-    lab = lab_of(samples).reshape(-1, 3)
-    l_spread, c_spread = spreads(colour)
-    d = np.sqrt(
-        ((lab[:, 0] - colour[0]) / l_spread) ** 2
-        + ((lab[:, 1] - colour[1]) / c_spread) ** 2
-        + ((lab[:, 2] - colour[2]) / c_spread) ** 2
-    ).reshape(pts.shape[:-1])
+    d = plain_distance(lab_of(samples).reshape(-1, 3), colour).reshape(pts.shape[:-1])
     off = (pts[..., 0] < 0) | (pts[..., 0] > w - 1) | (pts[..., 1] < 0) | (pts[..., 1] > h - 1)
     return np.where(off, np.nan, d)
 
@@ -180,12 +174,6 @@ def snap_to_cloth_edge(
     return SnappedOutline(corners, moved, contrast)
 
 
-def _length_px(corners: np.ndarray) -> float:
-    """The larger mean length of a quadrilateral's two pairs of opposite sides [px]."""
-    sides = np.linalg.norm(np.roll(corners, -1, axis=0) - corners, axis=1)
-    return float(max(sides[0] + sides[2], sides[1] + sides[3]) / 2)
-
-
 def snap_fit(rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.ndarray | None = None) -> TableFit:
     """A table fit moved onto the cloth's edge in the photo.
 
@@ -212,7 +200,7 @@ def snap_fit(rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.nd
     if not sides.any():
         return fit
     colour = cloth_colour(rgb, mask, ball_boxes)
-    reach = min(max(MIN_REACH_PX, FIRST_REACH * _length_px(outline)), MAX_REACH * math.hypot(w, h))
+    reach = min(max(MIN_REACH_PX, FIRST_REACH * quad_length(outline)), MAX_REACH * math.hypot(w, h))
     first = snap_to_cloth_edge(rgb, outline, colour, reach, sides)
     second = snap_to_cloth_edge(rgb, first.corners_px, colour, SECOND_REACH_PX, sides)
     moved = int((first.moved | second.moved).sum())
@@ -251,6 +239,6 @@ def _camera_near(camera: PinholeCamera, spec: TableSpec, corners: np.ndarray) ->
     new_K = np.array([[f * stretch, 0.0, sol.x[7]], [0.0, f, sol.x[8]], [0.0, 0.0, 1.0]])
     found = PinholeCamera(new_K, cv2.Rodrigues(sol.x[1:4])[0], sol.x[4:7].copy(), camera.image_size)
     misfit = np.abs(residuals(sol.x)[:8]).max()
-    if found.position[2] < spec.cushion_height + 0.2 or misfit > 0.05 * _length_px(corners):
+    if found.position[2] < spec.cushion_height + 0.2 or misfit > 0.05 * quad_length(corners):
         return None
     return found

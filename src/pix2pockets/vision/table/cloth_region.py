@@ -244,6 +244,17 @@ def spreads(colour: np.ndarray) -> tuple[float, float]:
     return L_SPREAD + 0.1 * float(colour[0]), C_SPREAD + 0.1 * chroma
 
 
+def plain_distance(lab: np.ndarray, colour: np.ndarray) -> np.ndarray:
+    """Distance (...) of Lab pixels (..., 3) from ``colour`` in its tolerance steps (:func:`spreads`), every channel
+    alike: an edge shows where any channel changes."""
+    l_spread, c_spread = spreads(colour)
+    return np.sqrt(
+        ((lab[..., 0] - colour[0]) / l_spread) ** 2
+        + ((lab[..., 1] - colour[1]) / c_spread) ** 2
+        + ((lab[..., 2] - colour[2]) / c_spread) ** 2
+    )
+
+
 def colour_distance2(lab: np.ndarray, colour: np.ndarray) -> np.ndarray:
     """Squared distance (H, W) of each pixel from ``colour`` in units of its tolerance step (:func:`_spreads`)."""
     chroma = math.hypot(float(colour[1]), float(colour[2]))

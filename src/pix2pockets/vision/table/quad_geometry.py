@@ -125,6 +125,19 @@ def quad_of_lines(lines: np.ndarray) -> np.ndarray:
     return np.array([intersect(lines[k - 1], lines[k]) for k in range(4)])
 
 
+def quad_of_point_sets(sides: list) -> np.ndarray:
+    """Corners (4, 2) of the quadrilateral whose four sides, in order round it, each run through a set of points
+    (n >= 2, 2): a total-least-squares line per side, crossed as in :func:`quad_of_lines`."""
+    return quad_of_lines(np.array([tls_fit(np.asarray(points, dtype=float)) for points in sides]))
+
+
+def quad_length(quad: np.ndarray) -> float:
+    """A quadrilateral's length [px]: the larger mean length of its two pairs of opposite sides (a table's length
+    as the photo shows it, whichever way it lies)."""
+    sides = np.linalg.norm(np.roll(quad, -1, axis=0) - quad, axis=1)
+    return float(max(sides[0] + sides[2], sides[1] + sides[3]) / 2)
+
+
 def side_midpoint(quad: np.ndarray, k: int) -> np.ndarray:
     """The image of the midpoint of side ``k`` of a rectangle seen as ``quad`` (4, 2) [px]: where the line from the
     diagonals' crossing to the vanishing point of the other two sides meets the side."""
