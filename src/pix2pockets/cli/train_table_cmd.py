@@ -15,7 +15,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("--data", action="append", default=[], help="'pix2pockets synth' dataset (repeatable)")
     parser.add_argument("--out", required=True, help="output folder")
-    parser.add_argument("--init", default=None, help="fp32 detector ONNX whose trunk and neck start the network")
+    parser.add_argument(
+        "--init",
+        default=None,
+        help="fp32 ONNX that starts the network: a table model (fine-tune) or a detector (its trunk and neck)",
+    )
     parser.add_argument("--epochs", type=int, default=12, help="passes over the renders (default 12)")
     parser.add_argument("--batch", type=int, default=32, help="renders per step (default 32)")
     parser.add_argument("--lr", type=float, default=2e-3, help="peak learning rate (default 2e-3)")

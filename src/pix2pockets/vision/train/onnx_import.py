@@ -1,4 +1,4 @@
-"""Load a shipped detector ONNX file back into the trainable :class:`CenterNet` (needs torch and onnx).
+"""Load a shipped ONNX file (detector or table model) back into its trainable network (needs torch and onnx).
 
 The exporter folds every batch norm into the convolution before it, so the ONNX file holds one weight and one
 bias per convolution. This module walks the network's convolutions in the order they run, takes the matching
@@ -15,13 +15,15 @@ from __future__ import annotations
 
 import itertools
 from pathlib import Path
+from typing import TypeVar
 
 import numpy as np
 import torch
 from torch import nn
 
-from pix2pockets.vision.train.detector_model import CenterNet
 from pix2pockets.vision.train.onnx_file import load_onnx_model
+
+NetT = TypeVar("NetT", bound=nn.Module)
 
 
 def _convs_in_run_order(model: nn.Module, example: torch.Tensor) -> list[nn.Conv2d]:
@@ -68,11 +70,11 @@ def _onnx_convs(path: Path) -> list[tuple[np.ndarray, np.ndarray | None]]:
     return convs
 
 
-def load_onnx_into(model: CenterNet, path: str | Path, calibration: torch.Tensor) -> CenterNet:
-    """Set ``model``'s weights from a detector ONNX file written by :func:`export_onnx` (fp32).
+def load_onnx_into(model: NetT, path: str | Path, calibration: torch.Tensor) -> NetT:
+    """Set ``model``'s weights from an ONNX file it was exported to (fp32; a detector or a table model).
 
     Args:
-        model: a freshly built network of the same width as the exported one.
+        model: a freshly built network of the same kind and width as the exported one.
         path: the fp32 ONNX file.
         calibration: images (N, 3, H, W) in [0, 1] on which batch-norm statistics are measured; a few
             training crops are enough.

@@ -53,7 +53,8 @@ class TableTrainConfig:
     Attributes:
         data: ``pix2pockets synth`` datasets (their train splits train, their valid splits measure).
         out: output folder.
-        init: a fp32 detector ONNX file (e.g. the shipped one) whose trunk and neck start the network, or None.
+        init: a fp32 ONNX file that starts the network, or None: a table model (e.g. the shipped one) starts all
+            of it (fine-tuning), a detector its trunk and neck.
         epochs, batch, lr, seed: the usual; ``lr`` is the peak of a cosine schedule with a short warm-up.
         workers: data-loading processes (0: in the training process).
         device: ``cpu``, ``cuda`` or ``auto``.
@@ -148,12 +149,24 @@ def _device(name: str) -> torch.device:
     return torch.device(name)
 
 
-def _init_from_detector(path: str, width: int = 64) -> CenterNet:
+def is_table_export(path: str | Path) -> bool:
+    """Whether an ONNX file is a table model (its output is :data:`OUTPUT_NAME`) rather than a detector."""
+    from pix2pockets.vision.train.onnx_file import load_onnx_model
+
+    return any(out.name == OUTPUT_NAME for out in load_onnx_model(Path(path)).graph.output)
+
+
+def init_network(path: str | None, width: int = 64) -> TableNet:
+    """The network to train: a table model's weights whole, a detector's trunk and neck under a new head, or a
+    fresh network when ``path`` is None."""
+    if path is None:
+        return TableNet(width=width)
     from pix2pockets.vision.train.onnx_import import load_onnx_into
 
-    body = CenterNet(width=width, pretrained=False)
     calibration = torch.rand(4, 3, 128, 128, generator=torch.Generator().manual_seed(0))
-    return load_onnx_into(body, path, calibration)
+    if is_table_export(path):
+        return load_onnx_into(TableNet(width=width), path, calibration)
+    return TableNet(load_onnx_into(CenterNet(width=width, pretrained=False), path, calibration))
 
 
 def held_out_report(net: TableNet, loader, device: torch.device) -> dict:
@@ -195,8 +208,7 @@ def train_table(cfg: TableTrainConfig, progress: bool = True) -> Path:
     device = _device(cfg.device)
     train_items = render_items(list(cfg.data), "train")
     valid_items = render_items(list(cfg.data), "valid")
-    body = _init_from_detector(cfg.init) if cfg.init else None
-    net = TableNet(body).to(device)
+    net = init_network(cfg.init).to(device)
     opt = torch.optim.AdamW([p for p in net.parameters() if p.requires_grad], lr=cfg.lr, weight_decay=1e-4)
     steps = cfg.epochs * math.ceil(len(train_items) / cfg.batch)
     warm = max(1, steps // 30)
