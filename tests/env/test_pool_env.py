@@ -247,3 +247,16 @@ def test_a_blackball_env_plays_on_a_uk_table_with_reds_and_yellows() -> None:
     with pytest.raises(ValueError, match="unknown group 'solids' for the blackball set"):
         env.reset(seed=0, options={"group": "solids"})
     env.close()
+
+
+@pytest.mark.parametrize(("ball_set", "rules"), [("american", "turn_outcome"), ("blackball", "blackball_turn_outcome")])
+def test_each_ball_set_judges_shots_by_its_own_rules(ball_set: str, rules: str, monkeypatch) -> None:
+    from pix2pockets.env import pool_env
+    from pix2pockets.rules import judge_for
+
+    used = []
+    monkeypatch.setattr(pool_env, "judge_for", lambda s: used.append(judge_for(s).__name__) or judge_for(s))
+    env = PoolEnv(balls="all", ball_set=ball_set, **DEFAULT_PHYSICS)
+    env.reset(seed=0)
+    env.step(env.action_space.sample())
+    assert used == [rules]

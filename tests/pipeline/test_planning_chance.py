@@ -77,3 +77,14 @@ def _balls(layout):
 
     for b, xy in zip(layout.balls, layout.positions, strict=True):
         yield LocatedBall(b.ball_class.value, 1.0, (0, 0, 1, 1), (0, 0), tuple(xy), (0, 0), None, None)
+
+
+def test_a_blackball_set_plans_by_blackball_rules():
+    from pix2pockets.pipeline.planning import default_planner, planner_for_set
+    from pix2pockets.state.ball_set import BallSet
+
+    planner = default_planner()
+    assert planner_for_set(planner, BallSet.AMERICAN) is planner
+    blackball = planner_for_set(planner, BallSet.BLACKBALL)
+    assert blackball.config.rules == "blackball" and blackball.simulator is planner.simulator
+    assert blackball.config.noise == planner.config.noise

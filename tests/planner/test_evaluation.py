@@ -122,10 +122,28 @@ def test_evaluate_planner_cli_on_a_uk_table(tmp_path, monkeypatch):
     assert code == 0 and seen and all(spec.name == "uk7" for spec in seen)
 
 
+def test_evaluate_planner_cli_blackball_judges_by_its_rules(monkeypatch):
+    from pix2pockets.cli import evaluate_planner as cli
+    from pix2pockets.rules import blackball_turn_outcome
+
+    jobs = []
+    real = cli.evaluate_layouts
+    monkeypatch.setattr(
+        cli, "evaluate_layouts", lambda layouts, job, **kw: jobs.append(job) or real(layouts, job, **kw)
+    )
+    code = main(["evaluate", "planner", "--planner", "oracle", "--balls", "2", "--layouts", "1", "--set", "blackball",
+                 "--no-progress"])  # fmt: skip
+    assert code == 0
+    protocol = jobs[0].make_protocol()
+    assert protocol.judge is blackball_turn_outcome
+    assert protocol.layout(2, 0, 0).spec.name == "uk7"  # a blackball set plays on a UK table unless told
+
+
 @pytest.mark.parametrize(
     "argv",
     [
         ["evaluate", "planner", "--table", "uk7", "--protocol", "paper", "--layouts", "1"],
+        ["evaluate", "planner", "--set", "blackball", "--protocol", "paper", "--layouts", "1"],
         ["evaluate", "planner", "--layouts", "0"],
         ["evaluate", "planner", "--noise", "loud", "--layouts", "1"],
         ["evaluate", "planner", "--json", "/nonexistent/dir/x.json", "--layouts", "1"],

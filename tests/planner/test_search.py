@@ -109,6 +109,27 @@ def test_works_with_a_shot_by_shot_simulator():
     assert p.suggest(lay, SOLIDS)[0].target == 1
 
 
+def test_blackball_success_predicate_matches_its_rules():
+    from pix2pockets.rules import blackball_turn_outcome
+
+    planner = SearchPlanner(SearchConfig(**FAST, rules="blackball"))
+    sim = planner.simulator
+    rng = np.random.default_rng(5)
+    agree = opponent_fouls = 0
+    for seed in range(3):
+        lay = random_layout(np.random.default_rng(seed), list(range(16)))
+        rows = np.column_stack([rng.uniform(-math.pi, math.pi, 40), rng.uniform(0.5, 4.0, 40), np.zeros((40, 3))])
+        first, pocket, _ = planner._run(lay, rows)
+        ok = planner._success(first, pocket, lay, SOLIDS)
+        for row, flag in zip(rows, ok, strict=True):
+            res = sim.simulate(lay, Shot(float(row[0]), float(row[1])))
+            turn = blackball_turn_outcome(res, SOLIDS)
+            agree += turn.shot_succeeded == bool(flag)
+            opponent_fouls += "opponent_potted" in turn.fouls and turn_outcome(res, SOLIDS).shot_succeeded
+    assert agree == 120
+    assert opponent_fouls > 0  # strokes that 8-ball counts as pots and blackball as fouls were among them
+
+
 @pytest.mark.parametrize(
     ("kw", "match"),
     [
@@ -119,6 +140,7 @@ def test_works_with_a_shot_by_shot_simulator():
         ({"endgame": -1}, "endgame"),
         ({"endgame_speeds": (0.0,)}, "endgame_speeds"),
         ({"endgame_sides": (0.45,), "endgame_heights": (0.0, 0.4)}, "tip offsets"),
+        ({"rules": "snooker"}, "rules"),
     ],
 )
 def test_bad_config(kw, match):

@@ -28,6 +28,7 @@ from pix2pockets.planner.evaluation import (
 )
 from pix2pockets.planner.noise import noise_model
 from pix2pockets.planner.registry import PLANNER_NAMES, make_planner
+from pix2pockets.rules import judge_for
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -53,7 +54,15 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--table",
         choices=sorted(TABLE_PRESETS),
         default=None,
-        help="the table of our protocol's layouts (default 9ft; uk7 and uk6 are UK tables for 2 in balls)",
+        help="the table of our protocol's layouts (default 9ft, uk7 with --set blackball; uk7 and uk6 are UK "
+        "tables for 2 in balls)",
+    )
+    parser.add_argument(
+        "--set",
+        dest="ball_set",
+        choices=("american", "blackball"),
+        default="american",
+        help="the rules of our protocol: american (8-ball) or blackball (WEPF: an opponent's ball down is a foul)",
     )
     parser.add_argument(
         "--seed",
@@ -140,6 +149,7 @@ class PlannerJob:
         time_budget: search decision limit [s].
         oracle_speed: the Oracle's max-power speed [m/s].
         table: preset name of our protocol's table (``None``: 9-foot, or the paper's table on its physics).
+        ball_set: ``american`` (8-ball rules) or ``blackball`` (WEPF rules; the search plans by them too).
     """
 
     planner: str
@@ -153,6 +163,7 @@ class PlannerJob:
     time_budget: float | None = None
     oracle_speed: float | None = None
     table: str | None = None
+    ball_set: str = "american"
 
     def make_protocol(self) -> Protocol:
         """The :class:`Protocol` this job names."""
@@ -160,8 +171,11 @@ class PlannerJob:
             return paper_protocol("spawn-in-pocket" in self.defects, "early-eight-wins" in self.defects)
         from pix2pockets.geometry.raster import paper_table
 
+        judge = judge_for(self.ball_set)
         if self.table is not None:
-            return ours_protocol(table_preset(self.table))
+            return ours_protocol(table_preset(self.table), judge)
+        if self.ball_set == "blackball":
+            return ours_protocol(table_preset("uk7"), judge)
         return ours_protocol(paper_table() if self.physics == "paper" else None)
 
 
@@ -170,9 +184,10 @@ def evaluate_layouts(layouts: range, job: PlannerJob, progress: bool = False) ->
     from pix2pockets.physics import make_simulator
 
     sim = make_simulator(job.physics)
+    rules = {"rules": "blackball"} if job.ball_set == "blackball" and job.planner.startswith("search") else {}
     planner = make_planner(
         job.planner, physics=job.physics, noise=job.planning_noise, time_budget=job.time_budget,
-        oracle_speed=job.oracle_speed,
+        oracle_speed=job.oracle_speed, **rules,
     )  # fmt: skip
     return evaluate_planner(
         planner, sim.simulate, job.balls, len(layouts), job.seed, noise_model(job.noise), job.physics, progress,
@@ -223,10 +238,12 @@ def run(args: argparse.Namespace) -> int:
     job = PlannerJob(
         planner=args.planner, physics=args.physics, balls=args.balls, seed=seed, noise=args.noise,
         planning_noise=planning, protocol=protocol_name, defects=tuple(sorted(defects)), time_budget=args.time_budget,
-        oracle_speed=args.oracle_speed, table=args.table,
+        oracle_speed=args.oracle_speed, table=args.table, ball_set=args.ball_set,
     )  # fmt: skip
     if args.table is not None and protocol_name == "paper":
         raise ValueError("--table applies to our protocol (the paper's protocol plays on its own table)")
+    if args.ball_set != "american" and protocol_name == "paper":
+        raise ValueError("--set applies to our protocol (the paper plays American 8-ball)")
     if args.ray is None:
         if args.workers is not None:
             raise ValueError("--workers applies with --ray")

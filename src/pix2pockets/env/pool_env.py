@@ -23,7 +23,7 @@ from pix2pockets.env.reward import BallSetup, PaperReward, RewardFn, ShotContext
 from pix2pockets.geometry.raster import TableRaster, paper_table
 from pix2pockets.geometry.table import TableSpec, table_preset
 from pix2pockets.physics import Simulator, make_simulator
-from pix2pockets.rules import GameState, Outcome, own_balls, turn_outcome
+from pix2pockets.rules import GameState, Outcome, judge_for, own_balls
 from pix2pockets.state import BallClass, Group, Shot, TableLayout, random_layout
 from pix2pockets.state.ball_set import BallSet, group_name, parse_ball_set, parse_group
 
@@ -280,7 +280,7 @@ class PoolEnv(gym.Env):
             outcome = Outcome.WIN.value if won else Outcome.END_TURN.value
             fouls: list[str] = []
         else:
-            turn = turn_outcome(result, GameState(self.group))
+            turn = judge_for(self.ball_set)(result, GameState(self.group))
             won = turn.outcome is Outcome.WIN
             lost = turn.outcome is Outcome.LOSS or result.cue_pocketed
             succeeded = turn.outcome in (Outcome.CONTINUE, Outcome.WIN)

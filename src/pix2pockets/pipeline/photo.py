@@ -18,7 +18,7 @@ import numpy as np
 
 from pix2pockets.geometry.raster import table_to_env_pixels
 from pix2pockets.geometry.table import TableSpec, table_preset
-from pix2pockets.pipeline.planning import ShotPlanner, default_planner, plan_shot
+from pix2pockets.pipeline.planning import ShotPlanner, default_planner, plan_shot, planner_for_set
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
 from pix2pockets.state.ball_set import BallSet, class_name, group_name, parse_ball_set, parse_group, set_of_group
 from pix2pockets.vision.classes import DETECTION_CAPS, ball_class_of
@@ -276,7 +276,7 @@ def suggest(
     timings["numbers"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    planner = planner or default_planner(skill=skill)
+    planner = planner_for_set(planner or default_planner(skill=skill), chosen)
     advice = plan_shot(layout, wanted if wanted == "auto" else wanted.value, planner, rng)
     advice = replace(advice, group=group_name(advice.group, chosen))
     timings["plan"] = time.perf_counter() - t

@@ -23,6 +23,7 @@ from pix2pockets.pipeline.result import ShotAdvice
 from pix2pockets.planner.chance import Chance, measure_chance
 from pix2pockets.rules import GameState
 from pix2pockets.state import BallClass, Group, Shot, TableLayout
+from pix2pockets.state.ball_set import BallSet
 
 
 @runtime_checkable
@@ -57,6 +58,18 @@ def default_planner(time_budget: float | None = None, skill: str = DEFAULT_SKILL
     except ImportError as err:  # pragma: no cover - depends on the build
         raise ValueError(f"no shot planner available: {err}") from None
     return SearchPlanner(SearchConfig(time_budget=time_budget, noise=skill))
+
+
+def planner_for_set(planner: ShotPlanner, ball_set: BallSet) -> ShotPlanner:
+    """``planner`` playing by the rules of ``ball_set``: a search planner on 8-ball rules is copied onto WEPF
+    blackball rules (an opponent's ball down is a foul) for a blackball set; other planners are returned as given."""
+    from pix2pockets.planner.search import SearchPlanner
+
+    if ball_set is not BallSet.BLACKBALL or not isinstance(planner, SearchPlanner) or planner.config.rules != "8ball":
+        return planner
+    copy = SearchPlanner(replace(planner.config, rules="blackball"), simulator=planner.simulator)
+    copy.name = planner.name
+    return copy
 
 
 def _search_planner(planner: Any) -> Any | None:

@@ -90,13 +90,14 @@ class Protocol:
     success: Callable[[TurnResult], bool] = continues_or_wins
 
 
-def ours_protocol(spec: TableSpec | None = None) -> Protocol:
-    """Our protocol: layout ``i`` from ``default_rng([seed, i, 0])`` on ``spec``, solids, 8-ball rules."""
+def ours_protocol(spec: TableSpec | None = None, judge: Judge = turn_outcome) -> Protocol:
+    """Our protocol: layout ``i`` from ``default_rng([seed, i, 0])`` on ``spec``, solids (reds in a blackball
+    set), 8-ball rules or another ``judge`` (:func:`pix2pockets.rules.judge_for`)."""
 
     def layout(balls: int, seed: int, i: int) -> TableLayout:
         return sample_environment(balls, np.random.default_rng([seed, i, 0]), spec)
 
-    return Protocol("ours", layout, GameState(Group.SOLIDS), turn_outcome)
+    return Protocol("ours", layout, GameState(Group.SOLIDS), judge)
 
 
 def paper_protocol(spawn_in_pocket: bool = False, early_eight_wins: bool = False) -> Protocol:

@@ -41,10 +41,12 @@ from pix2pockets.planner.hitpoints import Hitpoint, ShotKind, find_hitpoints
 from pix2pockets.planner.noise import GaussianNoise, noise_model
 from pix2pockets.planner.paper_protocol import paper_continues
 from pix2pockets.planner.position import fast_position_value, pot_probability
-from pix2pockets.rules import GameState, Outcome, turn_outcome
+from pix2pockets.rules import GameState, Outcome, judge_for
 from pix2pockets.state import BallClass, Shot, TableLayout
 
 _MIN_SIGMA = math.radians(0.05)  # planning never assumes perfect aim
+RULES = ("8ball", "blackball", "paper")
+"""What :attr:`SearchConfig.rules` may name."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -82,8 +84,9 @@ class SearchConfig:
             ``time_budget``, only while at least half of it is left).
         time_budget: wall-clock limit per decision [s], ``None`` for none.
         rules: what counts as a successful stroke: ``8ball`` (a legal pot: own ball first, no scratch, the
-            8 only when it wins) or ``paper`` (the paper's judgement: own balls drop and neither the cue
-            ball, the 8 nor an opponent's ball does; see :mod:`pix2pockets.planner.paper_protocol`).
+            8 only when it wins), ``blackball`` (the same, and no opponent's ball down: WEPF rules,
+            :mod:`pix2pockets.rules.blackball`) or ``paper`` (the paper's judgement: own balls drop and neither the
+            cue ball, the 8 nor an opponent's ball does; see :mod:`pix2pockets.planner.paper_protocol`).
         simulator_params: keyword parameters for the simulator backend.
     """
 
@@ -138,8 +141,8 @@ class SearchConfig:
                 "must combine to tip offsets within 0.5 ball radius"
             )
         noise_model(self.noise)  # validate the name early
-        if self.rules not in ("8ball", "paper"):
-            raise ValueError(f"SearchConfig.rules must be '8ball' or 'paper', got {self.rules!r}")
+        if self.rules not in RULES:
+            raise ValueError(f"SearchConfig.rules must be one of {RULES}, got {self.rules!r}")
 
 
 @dataclass(slots=True)
@@ -192,6 +195,7 @@ class SearchPlanner:
         self.noise: GaussianNoise = noise_model(self.config.noise)
         self.simulator = simulator or make_simulator(self.config.physics, **self.config.simulator_params)
         self.name = "search"
+        self._judge = judge_for("blackball" if self.config.rules == "blackball" else "american")
         self._deadline = math.inf
 
     # ------------------------------------------------------------------ api
@@ -418,6 +422,8 @@ class SearchPlanner:
             cleared = not own_mask.any()
             legal_first = hit == (BallClass.BLACK.value if cleared else state.group.ball_class.value)
         no_foul = valid_first & legal_first & ~potted[:, cue]
+        if self.config.rules == "blackball" and state.group is not None:  # an opponent's ball down is a foul
+            no_foul &= ~np.any(potted & (classes == state.group.other.ball_class.value)[None, :], axis=1)
         black_potted = potted[:, black] if black is not None else np.zeros(len(first), dtype=bool)
         if cleared:
             return no_foul & black_potted
@@ -454,7 +460,7 @@ class SearchPlanner:
                     res = self.simulator.simulate(layout, shot)
                 except RuntimeError:
                     continue
-                if turn_outcome(res, state).outcome is Outcome.END_TURN:
+                if self._judge(res, state).outcome is Outcome.END_TURN:
                     return [Suggestion(shot, t, None, None, 0.0, 0.0, None, safety=True), base]
         return [base]
 

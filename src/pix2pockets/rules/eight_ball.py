@@ -30,6 +30,7 @@ class Foul(StrEnum):
     WRONG_FIRST_CONTACT = "wrong_first_contact"
     NO_RAIL_AFTER_CONTACT = "no_rail_after_contact"
     SCRATCH = "scratch"
+    OPPONENT_POTTED = "opponent_potted"  # blackball rules only
 
 
 class Outcome(StrEnum):
@@ -60,12 +61,15 @@ class TurnResult:
         group: the shooter's group after the shot (assigned on an open table by a legal pot).
         fouls: the fouls committed, empty for a legal shot.
         legal_pots: indices (into the initial layout) of own balls legally pocketed.
+        penalty_visits: after a foul, the visits the opponent gets (1: ball in hand under 8-ball rules; 2 under
+            blackball rules); 0 otherwise.
     """
 
     outcome: Outcome
     group: Group | None
     fouls: tuple[Foul, ...]
     legal_pots: tuple[int, ...]
+    penalty_visits: int = 0
 
     @property
     def ball_in_hand(self) -> bool:
@@ -150,7 +154,7 @@ def turn_outcome(result: ShotResult, state: GameState) -> TurnResult:
         won = not fouls and group_cleared(result.initial, state.group)
         return TurnResult(Outcome.WIN if won else Outcome.LOSS, state.group, fouls, ())
     if fouls:
-        return TurnResult(Outcome.FOUL, state.group, fouls, ())
+        return TurnResult(Outcome.FOUL, state.group, fouls, (), penalty_visits=1)
     group = assigned_group(result, state)
     pots = tuple(i for i in result.pocketed if group is not None and result.initial.balls[i].group is group)
     outcome = Outcome.CONTINUE if pots else Outcome.END_TURN

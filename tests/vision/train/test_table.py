@@ -35,3 +35,16 @@ def test_a_detector_starts_only_the_trunk_and_neck() -> None:
         out = torch.sigmoid(net(torch.zeros(1, 3, 64, 64)))
     assert out.shape[1] == 3
     assert float(out[0, 1:].max()) < 0.05  # fresh keypoint head: biased towards no peak
+
+
+def test_fine_tuning_trains_with_the_shipped_norm_statistics() -> None:
+    from pix2pockets.vision.train.table import set_train_mode
+
+    net = init_network(str(MODELS / "table.onnx"))
+    x = torch.from_numpy(np.random.default_rng(1).random((2, 3, 96, 160), dtype=np.float32))
+    with torch.no_grad():
+        shipped = net.eval()(x)
+        set_train_mode(net)
+        training = net(x)
+    assert net.training
+    assert torch.allclose(shipped, training, atol=1e-4)  # a batch's own statistics would move every layer

@@ -91,6 +91,8 @@ class TableNet(nn.Module):
         with torch.no_grad():
             head[-1].bias[CORNER_CHANNEL] = head[-1].bias[SIDE_CHANNEL] = -math.log(99.0)
         self.body.head = head
+        self.frozen_norms = False
+        """Keep the batch norms in eval mode while training (:func:`set_train_mode`)."""
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         """Logits (N, 3, H/4, W/4)."""
@@ -165,8 +167,21 @@ def init_network(path: str | None, width: int = 64) -> TableNet:
 
     calibration = torch.rand(4, 3, 128, 128, generator=torch.Generator().manual_seed(0))
     if is_table_export(path):
-        return load_onnx_into(TableNet(width=width), path, calibration)
+        net = load_onnx_into(TableNet(width=width), path, calibration)
+        net.frozen_norms = True  # fine-tuning: see set_train_mode
+        return net
     return TableNet(load_onnx_into(CenterNet(width=width, pretrained=False), path, calibration))
+
+
+def set_train_mode(net: TableNet) -> None:
+    """Training mode, with the batch norms frozen (running statistics kept, affine weights still learnt) when the
+    network was loaded from a table model: its norms hold the statistics of the data it learnt from, and a
+    fine-tuning batch's own statistics would move every layer's output at the first step."""
+    net.train()
+    if net.frozen_norms:
+        for m in net.modules():
+            if isinstance(m, nn.BatchNorm2d):
+                m.eval()
 
 
 def held_out_report(net: TableNet, loader, device: torch.device) -> dict:
@@ -189,7 +204,7 @@ def held_out_report(net: TableNet, loader, device: torch.device) -> dict:
                     if len(truth) and len(got):
                         d = np.linalg.norm(truth[:, None] - got[None], axis=2).min(axis=1)
                         found[c][0] += int((d <= RECALL_CELLS).sum())
-    net.train()
+    set_train_mode(net)
     return {
         "surface_iou": round(inter / max(union, 1.0), 4),
         "corner_recall": round(found[CORNER_CHANNEL][0] / max(found[CORNER_CHANNEL][1], 1), 4),
@@ -209,6 +224,7 @@ def train_table(cfg: TableTrainConfig, progress: bool = True) -> Path:
     train_items = render_items(list(cfg.data), "train")
     valid_items = render_items(list(cfg.data), "valid")
     net = init_network(cfg.init).to(device)
+    set_train_mode(net)
     opt = torch.optim.AdamW([p for p in net.parameters() if p.requires_grad], lr=cfg.lr, weight_decay=1e-4)
     steps = cfg.epochs * math.ceil(len(train_items) / cfg.batch)
     warm = max(1, steps // 30)
