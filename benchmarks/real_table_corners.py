@@ -43,6 +43,7 @@ from pix2pockets.vision.table.quad_geometry import quad_length, quad_of_point_se
 HERE = Path(__file__).resolve().parent
 DEFAULT_DATA = HERE.parent.parent / "shared" / "data" / "real-snooker-vision"
 DEFAULT_LABELS = HERE / "data" / "real_table_corners.json"
+SHEET_COLUMNS, SHEET_TILE = 8, 200  # contact sheet: photos per row, tile size [px]
 
 
 def fitted_outline(fit: TableFit) -> tuple[np.ndarray, np.ndarray]:
@@ -114,7 +115,9 @@ def main() -> None:
     ap.add_argument("--tolerance", type=float, default=0.02, help="corner error that counts as right [table length]")
     ap.add_argument("--no-shots", action="store_true", help="fit only; do not run the planner")
     ap.add_argument("--draw", type=Path, default=None, help="folder for each photo with its labelled and fitted table")
-    ap.add_argument("--sheet", type=Path, default=None, help="contact sheet PNG of the drawn photos")
+    ap.add_argument(
+        "--sheet", type=Path, default=None, help="contact sheet of the phone photos and every tenth video frame"
+    )
     ap.add_argument("--json", default=None)
     args = ap.parse_args()
 
@@ -205,7 +208,9 @@ def main() -> None:
         why = r.get("error") or f"worst corner {max(r['corner_errors']):.1%}"
         print(f"  not right: {Path(r['image']).name[:24]:<24} {why}")
     if args.sheet:
-        cv2.imwrite(str(args.sheet), image_grid(drawn, 6, (240, 240)))
+        video = itertools.count()
+        shown = [d for d, r in zip(drawn, rows, strict=True) if is_phone_photo(r["image"]) or next(video) % 10 == 0]
+        cv2.imwrite(str(args.sheet), image_grid(shown, SHEET_COLUMNS, (SHEET_TILE, SHEET_TILE)))
     if args.json:
         Path(args.json).write_text(json.dumps({**summary, "rows": rows}, indent=1) + "\n")
 

@@ -37,8 +37,8 @@ SAMPLES = 48
 """Profiles searched along each side."""
 MIN_INLIER_SHARE = 0.35
 """Share of a side's profiles whose edge must lie on the new line."""
-MAX_TURN_DEG = 4.0
-"""Largest turn of a side [deg]."""
+MAX_TURN_DEG = 12.0
+"""Largest turn of a side [deg] (the table model's cushion lines can be this far off a near corner)."""
 CONTRAST_STEP = 1.5
 """Contrast across a line is read this many pixels either side of it."""
 MIN_GAIN = 0.15
