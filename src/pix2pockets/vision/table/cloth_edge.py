@@ -33,7 +33,7 @@ from pix2pockets.vision.table.outline_camera import (
 )
 from pix2pockets.vision.table.quad_geometry import line_through, quad_length, quad_of_lines, robust_line
 
-SAMPLES = 48
+SAMPLES = 96
 """Profiles searched along each side."""
 MIN_INLIER_SHARE = 0.35
 """Share of a side's profiles whose edge must lie on the new line."""
