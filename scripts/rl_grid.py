@@ -262,6 +262,8 @@ def do_list(args: argparse.Namespace) -> None:
 
 
 def main() -> None:
+    from pix2pockets.scale.ray_pool import add_ray_arguments
+
     parser = argparse.ArgumentParser(description="The paper's RL grid: train / evaluate / table / plot.")
     parser.add_argument("action", choices=("list", "train", "evaluate", "table", "plot", "speeds", "details"))
     parser.add_argument("--root", default="runs/rl")
@@ -278,16 +280,7 @@ def main() -> None:
         default=True,
         help="also evaluate uniform-random play over each hitpoint mask (Table 3's untrained reference)",
     )
-    parser.add_argument(
-        "--ray",
-        nargs="?",
-        const="local",
-        default=None,
-        metavar="ADDRESS",
-        help="train: one run per Ray worker, on a local instance (no ADDRESS) or a running cluster (ADDRESS); "
-        "--root must then be on storage every worker sees",
-    )
-    parser.add_argument("--workers", type=int, default=None, help="CPUs of the local Ray instance (default: all)")
+    add_ray_arguments(parser, "train: one run per Ray worker (--root on storage every worker sees)")
     parser.add_argument("--out", default="docs/rl_learning_curves.png")
     parser.add_argument("--window", type=int, default=2000)
     args = parser.parse_args()

@@ -29,6 +29,7 @@ from pix2pockets.planner.evaluation import (
 from pix2pockets.planner.noise import noise_model
 from pix2pockets.planner.registry import PLANNER_NAMES, make_planner
 from pix2pockets.rules import judge_for
+from pix2pockets.scale.ray_pool import add_ray_arguments
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -111,16 +112,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     parser.add_argument("--json", metavar="OUT.json", help="write the results as JSON")
     parser.add_argument("--force", action="store_true", help="overwrite an existing --json file")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
-    parser.add_argument(
-        "--ray",
-        nargs="?",
-        const="local",
-        default=None,
-        metavar="ADDRESS",
-        help="split the layouts over Ray workers (the ray extra): alone, a Ray instance on this machine; with an "
-        "address (auto, ray://HOST:10001), that cluster. Same numbers as one process",
-    )
-    parser.add_argument("--workers", type=int, default=None, help="CPUs of the local Ray instance (default: all)")
+    add_ray_arguments(parser, "split the layouts over Ray workers, the same numbers as one process")
     parser.set_defaults(func=run)
 
 

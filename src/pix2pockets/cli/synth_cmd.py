@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 
+from pix2pockets.scale.ray_pool import add_ray_arguments
 from pix2pockets.synth.cameras import BROADCAST_KINDS, CAMERA_KINDS
 from pix2pockets.synth.layouts import LAYOUT_MODES
 
@@ -48,16 +49,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("--force", action="store_true", help="overwrite a non-empty output folder")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
-    parser.add_argument(
-        "--ray",
-        nargs="?",
-        const="local",
-        default=None,
-        metavar="ADDRESS",
-        help="render on Ray workers (the ray extra): alone, a Ray instance on this machine; with an address "
-        "(auto, ray://HOST:10001), that cluster. The same bytes as one process",
-    )
-    parser.add_argument("--workers", type=int, default=None, help="CPUs of the local Ray instance (default: all)")
+    add_ray_arguments(parser, "render on Ray workers, the same bytes as one process")
     parser.set_defaults(func=run)
 
 

@@ -31,11 +31,8 @@ import numpy as np
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.planner.base import Planner, legal_targets, lone_cue
 from pix2pockets.planner.noise import NO_NOISE, NoiseModel
-from pix2pockets.rules import GameState, Outcome, TurnResult, turn_outcome
+from pix2pockets.rules import GameState, Judge, Outcome, TurnResult, turn_outcome
 from pix2pockets.state import Group, Shot, ShotResult, TableLayout, random_layout
-
-Judge = Callable[[ShotResult, GameState], TurnResult]
-"""Judges a shot: ``turn_outcome`` (our 8-ball rules) or the paper's."""
 
 BALL_SETS: dict[int, tuple[int, ...]] = {1: (0,), 2: (0, 8), 16: tuple(range(16))}
 """Ball numbers per environment (as in ``pix2pockets/OneBall-v0``, ``TwoBall-v0``, ``AllBall-v0``)."""

@@ -22,6 +22,7 @@ from pix2pockets.state.ball_set import BallSet, parse_ball_set
 from pix2pockets.state.result import ShotResult
 
 Judge = Callable[[ShotResult, GameState], TurnResult]
+"""Judges a shot: :func:`turn_outcome`, :func:`blackball_turn_outcome` or the paper's judgement."""
 
 
 def judge_for(ball_set: BallSet | str) -> Judge:

@@ -16,16 +16,7 @@ and the black wins only on a legal shot after the group was cleared (else the fr
 
 from __future__ import annotations
 
-from pix2pockets.rules.eight_ball import (
-    Foul,
-    GameState,
-    Outcome,
-    TurnResult,
-    assigned_group,
-    black_pocketed,
-    group_cleared,
-    shot_fouls,
-)
+from pix2pockets.rules.eight_ball import Foul, GameState, TurnResult, judge_turn, shot_fouls
 from pix2pockets.state.result import ShotResult
 
 PENALTY_VISITS = 2
@@ -48,12 +39,4 @@ def blackball_shot_fouls(result: ShotResult, state: GameState) -> tuple[Foul, ..
 
 def blackball_turn_outcome(result: ShotResult, state: GameState) -> TurnResult:
     """Judge one shot under blackball rules: win, loss, foul (two visits), continue or end of turn."""
-    fouls = blackball_shot_fouls(result, state)
-    if black_pocketed(result):
-        won = not fouls and group_cleared(result.initial, state.group)
-        return TurnResult(Outcome.WIN if won else Outcome.LOSS, state.group, fouls, ())
-    if fouls:
-        return TurnResult(Outcome.FOUL, state.group, fouls, (), penalty_visits=PENALTY_VISITS)
-    group = assigned_group(result, state)
-    pots = tuple(i for i in result.pocketed if group is not None and result.initial.balls[i].group is group)
-    return TurnResult(Outcome.CONTINUE if pots else Outcome.END_TURN, group, (), pots)
+    return judge_turn(result, state, blackball_shot_fouls(result, state), PENALTY_VISITS)

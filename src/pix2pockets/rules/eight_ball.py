@@ -147,15 +147,20 @@ def assigned_group(result: ShotResult, state: GameState) -> Group | None:
     return None
 
 
-def turn_outcome(result: ShotResult, state: GameState) -> TurnResult:
-    """Judge one shot: win, loss, foul, continue or end of turn."""
-    fouls = shot_fouls(result, state)
+def judge_turn(result: ShotResult, state: GameState, fouls: tuple[Foul, ...], penalty_visits: int) -> TurnResult:
+    """Win, loss, foul, continue or end of turn, given the shot's ``fouls`` under a game's rules and the visits a
+    foul gives the opponent."""
     if black_pocketed(result):
         won = not fouls and group_cleared(result.initial, state.group)
         return TurnResult(Outcome.WIN if won else Outcome.LOSS, state.group, fouls, ())
     if fouls:
-        return TurnResult(Outcome.FOUL, state.group, fouls, (), penalty_visits=1)
+        return TurnResult(Outcome.FOUL, state.group, fouls, (), penalty_visits=penalty_visits)
     group = assigned_group(result, state)
     pots = tuple(i for i in result.pocketed if group is not None and result.initial.balls[i].group is group)
     outcome = Outcome.CONTINUE if pots else Outcome.END_TURN
     return TurnResult(outcome, group, (), pots)
+
+
+def turn_outcome(result: ShotResult, state: GameState) -> TurnResult:
+    """Judge one shot by the 8-ball rules: win, loss, foul (ball in hand), continue or end of turn."""
+    return judge_turn(result, state, shot_fouls(result, state), penalty_visits=1)

@@ -4,6 +4,6 @@ Work is split by index (layouts of ``evaluate planner``, scenes of ``synth``); e
 seed and index, so the merged result is the one a single process gives. See docs/scale-out.md.
 """
 
-from pix2pockets.scale.ray_pool import RayPool, require_ray, split_range
+from pix2pockets.scale.ray_pool import RayPool, add_ray_arguments, require_ray, split_range
 
-__all__ = ["RayPool", "require_ray", "split_range"]
+__all__ = ["RayPool", "add_ray_arguments", "require_ray", "split_range"]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import argparse
 import itertools
 import os
 from collections.abc import Callable, Iterator, Sequence
@@ -12,6 +13,21 @@ R = TypeVar("R")
 
 LOCAL = "local"
 """``--ray`` without an address: start a Ray instance on this machine for the command."""
+
+
+def add_ray_arguments(parser: argparse.ArgumentParser, what: str) -> None:
+    """Add ``--ray [ADDRESS]`` and ``--workers N`` to a command's parser; ``what`` says how the command uses the
+    workers (the start of the help text)."""
+    parser.add_argument(
+        "--ray",
+        nargs="?",
+        const=LOCAL,
+        default=None,
+        metavar="ADDRESS",
+        help=f"{what} (the ray extra): alone, a Ray instance on this machine; with an address (auto, "
+        "ray://HOST:10001), that cluster",
+    )
+    parser.add_argument("--workers", type=int, default=None, help="CPUs of the local Ray instance (default: all)")
 
 
 def require_ray() -> Any:

@@ -85,7 +85,7 @@ class ThreadWorker:
 
 
 class ProcessWorker:
-    """A worker process (spawned, so it inherits none of the server's threads or ONNX Runtime inference sessions)."""
+    """A worker process, started by spawn: it shares none of the server's threads or ONNX Runtime inference sessions."""
 
     def __init__(self, spec: EngineSpec, index: int, job_timeout: float) -> None:
         self.spec = spec
