@@ -132,3 +132,26 @@ def test_synth_portrait_option(tmp_path):
         assert all(0 <= float(v) <= 1 for row in rows for v in row.split()[1:])  # normalised by the upright size
     with pytest.raises(ValueError, match="portrait"):
         write_dataset(tmp_path / "bad", 1, size=SIZE, portrait=2.0)
+
+
+def test_blackball_share_draws_sets_per_scene_and_keeps_the_others(tmp_path):
+    mixed = write_dataset(tmp_path / "mixed", 8, seed=4, size=SIZE, split=(1, 0, 0), blackball=0.5)
+    plain = write_dataset(tmp_path / "plain", 8, seed=4, size=SIZE, split=(1, 0, 0))
+    assert mixed["blackball"] == 0.5 and plain["blackball"] == 0.0
+    sets = []
+    for item in mixed["images"]:
+        meta_path = (tmp_path / "mixed" / item["image"].replace("images", "meta")).with_suffix(".json")
+        sets.append(json.loads(meta_path.read_text())["ball_set"])
+        same = (tmp_path / "mixed" / item["image"]).read_bytes() == (tmp_path / "plain" / item["image"]).read_bytes()
+        assert same == (sets[-1] == "american")  # an American scene renders as in a dataset without blackball sets
+    assert set(sets) == {"american", "blackball"}
+    with pytest.raises(ValueError, match="blackball"):
+        write_dataset(tmp_path / "bad", 1, size=SIZE, blackball=1.5)
+
+
+def test_synth_blackball_option(tmp_path):
+    out = tmp_path / "uk"
+    assert main(["synth", "--n", "2", "--out", str(out), "--size", "96x54", "--blackball", "1", "--no-progress"]) == 0
+    for item in json.loads((out / "manifest.json").read_text())["images"]:
+        meta = json.loads((out / item["image"].replace("images", "meta")).with_suffix(".json").read_text())
+        assert meta["ball_set"] == "blackball" and meta["table"]["name"] in ("uk7", "uk6")

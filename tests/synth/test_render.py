@@ -187,3 +187,35 @@ def test_rail_cap_step_closes_the_gap_above_the_cushion():
             gaps += col[rows[0] - 1] in (sc.ID_NOSE, sc.ID_FLOOR, sc.ID_WALL, sc.ID_CLOTH)
     assert columns > 300
     assert gaps < 0.1 * columns
+
+
+def test_blackball_sets_are_plain_reds_and_yellows_on_uk_tables():
+    """A blackball render: UK table, reds labelled with the solid id and yellows with the stripe id, and their pixels
+    red or yellow all over (plain balls: no white band, no number circle)."""
+    seen = set()
+    for seed in range(12):
+        rend = render(seed, (640, 360), camera_kind="phone_low" if seed % 2 else "low", ball_set="blackball")
+        assert rend.labels["ball_set"] == "blackball" and rend.labels["table"]["name"] in ("uk7", "uk6")
+        for i, ball in enumerate(rend.labels["balls"]):
+            n = ball["number"]
+            expected = {0: ("cue", 0), 8: ("black", 1)}.get(n, ("red", 2) if n < 8 else ("yellow", 3))
+            assert (ball["class"], ball["class_id"]) == expected
+            if n in (0, 8) or not ball["labelled"] or ball["occluded_fraction"] > 0 or ball["visible_px"] < 60:
+                continue
+            pix = rend.image[rend.ids == sc.ID_BALL0 + i].astype(int)
+            white = (pix.min(axis=1) > 170).mean()  # bright and unsaturated: a band or a number circle
+            median = np.median(pix, axis=0).astype(np.uint8).reshape(1, 1, 3)
+            hue, sat, _ = (int(c) for c in cv2.cvtColor(median, cv2.COLOR_RGB2HSV)[0, 0])  # hue in 2-degree steps
+            assert sat > 100, (seed, n, median)
+            assert (hue <= 9 or hue >= 171) if n < 8 else (11 <= hue <= 38), (seed, n, median, hue)
+            assert white < 0.12, (seed, n, white)
+            seen.add("red" if n < 8 else "yellow")
+    assert seen == {"red", "yellow"}
+
+
+def test_american_set_is_the_default():
+    a = render(5, SIZE)
+    b = render(5, SIZE, ball_set="american")
+    assert a.image.tobytes() == b.image.tobytes() and a.labels["ball_set"] == "american"
+    with pytest.raises(ValueError, match="ball set"):
+        render(5, SIZE, ball_set="snooker")

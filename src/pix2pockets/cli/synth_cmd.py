@@ -47,6 +47,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         metavar="SHARE",
         help="share of phone views held upright, rendered at HxW (default 0: every frame is --size)",
     )
+    parser.add_argument(
+        "--blackball",
+        type=float,
+        default=0.0,
+        metavar="SHARE",
+        help="share of scenes with a blackball set (reds, yellows, black) on a UK table (default 0; 1: every scene); "
+        "reds take the solid class id, yellows the stripe class id",
+    )
     parser.add_argument("--force", action="store_true", help="overwrite a non-empty output folder")
     parser.add_argument("--no-progress", action="store_true", help="hide the progress bar")
     add_ray_arguments(parser, "render on Ray workers, the same bytes as one process")
@@ -70,6 +78,7 @@ def run(args: argparse.Namespace) -> int:
         "layout_mode": args.layout,
         "camera_kinds": args.cameras,
         "portrait": args.portrait,
+        "blackball": args.blackball,
     }
     if args.ray is None:
         if args.workers is not None:

@@ -22,8 +22,10 @@ BUILD_WEIGHTS: dict[str, dict[str, float]] = {
     "8ft": {"hall": 0.35, "home": 0.45, "pub": 0.2},
     "7ft": {"hall": 0.1, "home": 0.25, "pub": 0.65},
     "6ft": {"hall": 0.0, "home": 0.6, "pub": 0.4},
+    "uk7": {"hall": 0.05, "home": 0.2, "pub": 0.75},
+    "uk6": {"hall": 0.0, "home": 0.5, "pub": 0.5},
 }
-"""Build probabilities by table size: 9-ft tables stand in halls and arenas, 7-ft bar boxes in pubs."""
+"""Build probabilities by table size: 9-ft tables stand in halls and arenas, 7-ft bar boxes and UK tables in pubs."""
 
 NO_SIGHTS: dict[str, float] = {"hall": 0.05, "home": 0.45, "pub": 0.65}
 """Share of tables of each build with plain rails (no sights)."""

@@ -25,6 +25,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from pix2pockets.state.ball_set import BallSet
 from pix2pockets.synth.cameras import camera_kinds as camera_kinds_of
 from pix2pockets.synth.labels import yolo_lines
 from pix2pockets.synth.layouts import LAYOUT_MODES
@@ -94,6 +95,7 @@ class SceneJob:
         kinds: camera kinds to draw from (``None``: all).
         layout_mode: every scene's layout mode (``None``: drawn per scene).
         portrait: share of phone views rendered upright.
+        blackball: share of scenes with a blackball set on a UK table (:func:`scene_ball_set`).
     """
 
     seed: int
@@ -102,6 +104,20 @@ class SceneJob:
     kinds: tuple[str, ...] | None = None
     layout_mode: str | None = None
     portrait: float = 0.0
+    blackball: float = 0.0
+
+
+BLACKBALL_STREAM = 0xB1AC
+"""Last entry of the seed sequence that draws whether a scene holds a blackball set."""
+
+
+def scene_ball_set(job: SceneJob, i: int) -> BallSet:
+    """The ball set of scene ``i``: blackball for a share ``job.blackball`` of scenes, drawn from its own stream
+    ``(seed, i, BLACKBALL_STREAM)`` so that every other scene renders as it would without blackball sets."""
+    if job.blackball <= 0.0:
+        return BallSet.AMERICAN
+    draw = np.random.default_rng([job.seed, i, BLACKBALL_STREAM]).random()
+    return BallSet.BLACKBALL if draw < job.blackball else BallSet.AMERICAN
 
 
 SceneFiles = tuple[dict[str, bytes], list[dict]]
@@ -113,15 +129,21 @@ SceneMap = Callable[[SceneJob, Sequence[tuple[int, str]]], Iterable[SceneFiles]]
 def write_scene(root: Path, job: SceneJob, i: int, split: str) -> list[dict]:
     """Render scene ``i`` into ``root/split/...``; returns its manifest items."""
     items = []
+    ball_set = scene_ball_set(job, i)
     if job.views == 1:
         rend = render(
-            (job.seed, i), job.size, camera_kind=job.kinds, layout_mode=job.layout_mode, portrait=job.portrait
+            (job.seed, i),
+            job.size,
+            camera_kind=job.kinds,
+            layout_mode=job.layout_mode,
+            portrait=job.portrait,
+            ball_set=ball_set,
         )
         stem = f"synth_{job.seed}_{i:06d}"
         write_sample(root, split, stem, rend)
         items.append({"image": f"{split}/images/{stem}.jpg", "scene": i, "camera": rend.labels["camera"]["kind"]})
     else:
-        for rend in render_views((job.seed, i), job.size, layout_mode=job.layout_mode):
+        for rend in render_views((job.seed, i), job.size, layout_mode=job.layout_mode, ball_set=ball_set):
             stem = f"synth_{job.seed}_{i:06d}_{rend.labels['view']}"
             rend.labels["scene_id"] = i
             write_sample(root, split, stem, rend)
@@ -192,6 +214,7 @@ def write_dataset(
     layout_mode: str | None = None,
     camera_kinds: str | Sequence[str] | None = None,
     portrait: float = 0.0,
+    blackball: float = 0.0,
     scene_map: SceneMap | None = None,
 ) -> dict:
     """Render ``n`` scenes into a YOLO dataset at ``out_dir``.
@@ -214,6 +237,8 @@ def write_dataset(
             camera per scene only.
         portrait: share of phone views rendered upright at (height, width) (``render(..., portrait=)``); one random
             camera per scene only.
+        blackball: share of scenes with a blackball set (7 reds, 7 yellows, the black) on a UK 7- or 6-foot table;
+            reds carry the solid class id, yellows the stripe class id, and each image's meta says ``ball_set``.
         scene_map: renders the scenes elsewhere (e.g. :func:`pix2pockets.scale.synth.ray_scene_map`); the files
             are byte-identical to a local run.
 
@@ -240,10 +265,12 @@ def write_dataset(
         raise ValueError(f"portrait must be a share in [0, 1], got {portrait!r}")
     if portrait > 0 and views != 1:
         raise ValueError("portrait frames apply to one random camera per scene (views 1)")
+    if not 0.0 <= blackball <= 1.0:
+        raise ValueError(f"blackball must be a share in [0, 1], got {blackball!r}")
     assignment = split_assignment(n, fractions, seed)
     items = []
     todo = [(i, assignment[i]) for i in range(n) if only_split is None or assignment[i] == only_split]
-    job = SceneJob(seed, tuple(size), views, None if kinds is None else tuple(kinds), layout_mode, portrait)
+    job = SceneJob(seed, tuple(size), views, None if kinds is None else tuple(kinds), layout_mode, portrait, blackball)
     bar = None
     if progress:
         from tqdm import tqdm
@@ -273,6 +300,7 @@ def write_dataset(
             "camera_kinds": None if kinds is None else list(kinds),
             "size": list(size),
             "portrait": portrait,
+            "blackball": blackball,
             "split": list(fractions),
             "classes": list(CLASS_NAMES),
             "box_convention": (

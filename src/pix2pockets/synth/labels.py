@@ -14,6 +14,7 @@ import numpy as np
 from numba import njit
 
 from pix2pockets.geometry.camera import PinholeCamera
+from pix2pockets.state.ball_set import class_name
 from pix2pockets.synth import scene_codes as sc
 from pix2pockets.synth.scene import Scene
 from pix2pockets.synth.shading import OVAL_AXES, SQUARE_HALF
@@ -162,7 +163,7 @@ def build_labels(
         balls.append(
             {
                 "number": int(ball.number),
-                "class": CLASS_NAMES[CLASS_OF_NUMBER[int(ball.number)]],
+                "class": class_name(CLASS_NAMES[CLASS_OF_NUMBER[int(ball.number)]], scene.ball_set),
                 "class_id": CLASS_OF_NUMBER[int(ball.number)],
                 "centre_table_m": np.round(centre, 6).tolist(),
                 "centre_px": np.round(cam.project(centre), 3).tolist(),

@@ -32,6 +32,14 @@ ALT_BALL_COLOURS: dict[int, tuple[tuple[float, float, float], ...]] = {
 
 STRIPE_WHITE = (0.92, 0.91, 0.85)
 
+BLACKBALL_COLOURS: dict[str, tuple[tuple[float, float, float], ...]] = {
+    "red": ((0.80, 0.05, 0.05), (0.68, 0.03, 0.06), (0.88, 0.12, 0.08)),
+    "yellow": ((0.98, 0.80, 0.08), (0.98, 0.70, 0.05), (0.95, 0.86, 0.20)),
+}
+"""Shades of a UK blackball set's reds and yellows (plain balls, no numbers); a scene draws one shade of each."""
+BLACKBALL_NUMBERED_BLACK = 0.6
+"""Share of blackball sets whose black carries an 8 (the others are plain)."""
+
 CLOTH_COLOURS: dict[str, tuple[float, float, float]] = {
     "tournament_blue": (0.07, 0.30, 0.62),
     "electric_blue": (0.05, 0.38, 0.75),

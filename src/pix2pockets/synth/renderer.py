@@ -12,6 +12,7 @@ import numpy as np
 
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.table import TABLE_PRESETS, TableSpec
+from pix2pockets.state.ball_set import BallSet, parse_ball_set
 from pix2pockets.synth import effects as fx
 from pix2pockets.synth import people, props, render_pass
 from pix2pockets.synth import scene_codes as sc
@@ -24,6 +25,8 @@ from pix2pockets.synth.textures import digit_bitmaps
 DEFAULT_SIZE = (960, 540)
 TABLE_SIZES = {"9ft": 0.45, "8ft": 0.25, "7ft": 0.25, "6ft": 0.05}
 """Table presets (``geometry.table.TABLE_PRESETS``) and their shares."""
+BLACKBALL_TABLE_SIZES = {"uk7": 0.7, "uk6": 0.3}
+"""UK table presets for a blackball set and their shares."""
 OWNED_BUILDS = ("pub", "home")
 """Builds of tables people own (``builds.BUILD_WEIGHTS``), photographed by phones more often."""
 
@@ -340,30 +343,33 @@ def render_scene_view(
     labels["image_size"] = list(cam.image_size)
     labels["camera"] = camera_dict(cam, kind)
     labels["style"] = {k: v for k, v in scene.style.items() if k != "ball_jitter"}
+    labels["ball_set"] = scene.ball_set.value
     labels["effects"] = {"exposure": round(exposure, 4), "occluders": used, **pipeline}
     return Render(image=image, ids=ids, occluded=occluded, labels=labels)
 
 
-def _spec(rng: np.random.Generator) -> TableSpec:
-    keys = list(TABLE_SIZES)
-    p = np.array([TABLE_SIZES[k] for k in keys])
+def _spec(rng: np.random.Generator, ball_set: BallSet = BallSet.AMERICAN) -> TableSpec:
+    sizes = BLACKBALL_TABLE_SIZES if ball_set is BallSet.BLACKBALL else TABLE_SIZES
+    keys = list(sizes)
+    p = np.array([sizes[k] for k in keys])
     return TABLE_PRESETS[keys[int(rng.choice(len(keys), p=p / p.sum()))]]
 
 
 def _scene_and_streams(
-    seed: Seed, layout_mode: str | None = None
+    seed: Seed, layout_mode: str | None = None, ball_set: BallSet | str = BallSet.AMERICAN
 ) -> tuple[Scene, str, np.random.Generator, np.random.Generator]:
-    """The scene of ``seed`` (its layout of mode ``layout_mode``, random when None), that mode, and the camera and
-    effects streams that follow it."""
+    """The scene of ``seed`` (its layout of mode ``layout_mode``, random when None; a blackball set on a UK table),
+    that mode, and the camera and effects streams that follow it."""
+    ball_set = parse_ball_set(ball_set)
     r_layout, r_scene, r_cam, r_fx = _streams(seed, 4)
-    spec = _spec(r_layout)
+    spec = _spec(r_layout, ball_set)
     layout, mode = sample_layout(r_layout, spec, layout_mode)
-    return sample_scene(r_scene, layout), mode, r_cam, r_fx
+    return sample_scene(r_scene, layout, ball_set=ball_set), mode, r_cam, r_fx
 
 
-def scene_of(seed: Seed) -> Scene:
+def scene_of(seed: Seed, ball_set: BallSet | str = BallSet.AMERICAN) -> Scene:
     """The 3-D scene (layout, ball rotations, materials) that :func:`render` draws for ``seed``, unrendered."""
-    return _scene_and_streams(seed)[0]
+    return _scene_and_streams(seed, ball_set=ball_set)[0]
 
 
 def render(
@@ -372,6 +378,7 @@ def render(
     camera_kind: str | Sequence[str] | None = None,
     layout_mode: str | None = None,
     portrait: float = 0.0,
+    ball_set: BallSet | str = BallSet.AMERICAN,
 ) -> Render:
     """Render the sample of ``seed`` (same seed -> identical pixels and labels).
 
@@ -384,10 +391,13 @@ def render(
         layout_mode: force a layout mode (see ``layouts.LAYOUT_MODES``, e.g. ``"rack"``); random when ``None``.
         portrait: share of phone views (``cameras.PHONE_KINDS``) held upright: rendered at (height, width). The
             draw is made for every scene, so a scene that stays landscape renders the same at any share.
+        ball_set: ``american`` (numbered balls on American tables) or ``blackball`` (7 reds, 7 yellows and the
+            black on UK 7- and 6-foot tables; reds are labelled with the solid class, yellows with the stripe class,
+            :mod:`pix2pockets.state.ball_set`).
     """
     if not 0.0 <= portrait <= 1.0:
         raise ValueError(f"portrait must be a share in [0, 1], got {portrait!r}")
-    scene, mode, r_cam, r_fx = _scene_and_streams(seed, layout_mode)
+    scene, mode, r_cam, r_fx = _scene_and_streams(seed, layout_mode, ball_set)
     kind = draw_camera_kind(r_cam, camera_kind, owned=scene.style.get("build") in OWNED_BUILDS)
     upright = r_cam.random() < portrait and kind in PHONE_KINDS
     if upright:
@@ -420,11 +430,12 @@ def render_views(
     size: tuple[int, int] = DEFAULT_SIZE,
     views: Sequence[str] = VIEW_KINDS,
     layout_mode: str | None = None,
+    ball_set: BallSet | str = BallSet.AMERICAN,
 ) -> list[Render]:
     """One layout (of mode ``layout_mode``, random when None) and scene seen from several cameras (default top,
     ~45 degrees, front) for the view-to-view projection-error experiment. Effects are lighter than in single
     views."""
-    scene, mode, r_cam, r_fx = _scene_and_streams(seed, layout_mode)
+    scene, mode, r_cam, r_fx = _scene_and_streams(seed, layout_mode, ball_set)
     out = []
     for view in views:
         cam, kind = sample_camera(r_cam, scene.spec, size, view, scene.floor_z, scene.rail_width, crop=False)

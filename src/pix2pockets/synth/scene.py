@@ -12,6 +12,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
+from pix2pockets.state.ball_set import BallSet
 from pix2pockets.state.layout import TableLayout
 from pix2pockets.synth import scene_codes as sc
 from pix2pockets.synth.builds import (
@@ -25,6 +26,8 @@ from pix2pockets.synth.builds import (
 from pix2pockets.synth.palette import (
     ALT_BALL_COLOURS,
     BALL_COLOURS,
+    BLACKBALL_COLOURS,
+    BLACKBALL_NUMBERED_BLACK,
     CLOTH_COLOURS,
     DARK_DIAMOND_COLOURS,
     DARK_DIAMONDS_ON_LIGHT_RAILS,
@@ -100,15 +103,30 @@ class Scene:
     def floor_z(self) -> float:
         return float(self.geo[sc.G_ZF])
 
+    @property
+    def ball_set(self) -> BallSet:
+        """The set on the table: American numbered balls, or a blackball set (7 reds, 7 yellows)."""
+        return BallSet(self.style.get("ball_set", BallSet.AMERICAN))
+
     def ball_arrays(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Band/base colours (n, 3), kinds (n,) and numbers (n,) of the balls for the ray caster."""
+        """Band/base colours (n, 3), kinds (n,) and numbers (n,) of the balls for the ray caster.
+
+        In a blackball set numbers 1-7 are the reds and 9-15 the yellows, drawn plain; the black keeps its 8 when
+        the set's style says so."""
         jit = self.style.get("ball_jitter", {})
+        blackball = self.ball_set is BallSet.BLACKBALL
         cols, kinds, nums = [], [], []
         for ball in self.layout.balls:
             n = int(ball.number)
             base = n - 8 if n > 8 else n
-            cols.append(jit.get(base, BALL_COLOURS[base]))
-            kinds.append(sc.BALL_CUE if n == 0 else sc.BALL_STRIPE if n > 8 else sc.BALL_SOLID)
+            if blackball and n not in (0, 8):
+                cols.append(jit["red" if n < 8 else "yellow"])
+                kinds.append(sc.BALL_PLAIN)
+            else:
+                cols.append(jit.get(base, BALL_COLOURS[base]))
+                plain_black = blackball and n == 8 and not self.style.get("numbered_black", True)
+                kind = sc.BALL_CUE if n == 0 else sc.BALL_STRIPE if n > 8 else sc.BALL_SOLID
+                kinds.append(sc.BALL_PLAIN if plain_black else kind)
             nums.append(n)
         return (
             np.array(cols, dtype=np.float64).reshape(-1, 3),
@@ -171,8 +189,14 @@ def _diamond_colour(rng: np.random.Generator, rail_name: str) -> tuple[float, fl
     return DIAMOND_COLOURS[int(rng.integers(len(DIAMOND_COLOURS)))]
 
 
-def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec | None = None) -> Scene:
-    """Draw table build, materials, lighting and room for ``layout`` (its own spec unless ``spec``)."""
+def sample_scene(
+    rng: np.random.Generator,
+    layout: TableLayout,
+    spec: TableSpec | None = None,
+    ball_set: BallSet | str = BallSet.AMERICAN,
+) -> Scene:
+    """Draw table build, materials, lighting and room for ``layout`` (its own spec unless ``spec``), with an American
+    or a blackball set of balls."""
     spec = spec or layout.spec
     L, W = spec.length, spec.width
     build = sample_build(rng, spec)
@@ -268,6 +292,12 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
             base_colours[n] = alts[int(rng.integers(len(alts)))]
     ball_jitter = {n: tuple(jitter(rng, c, 0.07)) for n, c in base_colours.items()}
     ball_jitter[0] = tuple(jitter(rng, STRIPE_WHITE, 0.02))
+    ball_set = BallSet(ball_set)
+    numbered_black = True
+    if ball_set is BallSet.BLACKBALL:  # drawn last: an American scene's draws stay as they are
+        for group, shades in BLACKBALL_COLOURS.items():
+            ball_jitter[group] = tuple(jitter(rng, shades[int(rng.integers(len(shades)))], 0.05))
+        numbered_black = bool(rng.random() < BLACKBALL_NUMBERED_BLACK)
 
     n = len(layout)
     rotations = np.array([random_rotation(rng) for _ in range(n)]).reshape(n, 3, 3)
@@ -283,6 +313,8 @@ def sample_scene(rng: np.random.Generator, layout: TableLayout, spec: TableSpec 
         "plates": build.plates,
         "coin_box": build.coin_box,
         "ball_jitter": ball_jitter,
+        "ball_set": ball_set.value,
+        "numbered_black": numbered_black,
     }
     return Scene(
         spec=spec,

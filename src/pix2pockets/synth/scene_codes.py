@@ -49,7 +49,7 @@ ID_BOX = 13  # coin box / ball-return front on the foot end of a coin-op table
 ID_DIAMOND0 = 20  # diamonds 0-17 -> 20-37
 ID_BALL0 = 40  # balls 0-15 -> 40-55
 
-BALL_CUE, BALL_SOLID, BALL_STRIPE = 0, 1, 2
+BALL_CUE, BALL_SOLID, BALL_STRIPE, BALL_PLAIN = 0, 1, 2, 3  # plain: one colour, no number (blackball reds, yellows)
 INF = 1e30
 KU = 0.8  # cushion undercut: the face below the nose runs KU m back per m of depth (hidden from above ~51 deg)
 KN = 1.0 / math.sqrt(1.0 + KU * KU)

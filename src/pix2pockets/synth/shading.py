@@ -9,6 +9,7 @@ from numba import njit
 
 from pix2pockets.synth.scene_codes import (
     BALL_CUE,
+    BALL_PLAIN,
     BALL_SOLID,
     G_CW,
     G_DC,
@@ -294,6 +295,8 @@ def ball_albedo(q0, q1, q2, kind, number, col, shade, digits):
         # six red dots on the axes (measle-style TV cue ball)
         if shade[S_CUE_DOTS] > 0.5 and (abs(q0) > 0.985 or abs(q1) > 0.985 or abs(q2) > 0.985):
             return 0.75, 0.05, 0.05
+        return col[0], col[1], col[2]
+    if kind == BALL_PLAIN:
         return col[0], col[1], col[2]
     if kind == BALL_SOLID:
         base_r, base_g, base_b = col[0], col[1], col[2]
