@@ -9,6 +9,7 @@ from pix2pockets.state.ball_set import BallSet
 from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.stages.ball_colours import (
     BLACK_ID,
+    MAX_BLACK_SCORE,
     NONE,
     OTHER,
     RED,
@@ -89,6 +90,20 @@ def test_a_black_mirroring_the_room_is_found_among_the_yellows():
     assert black_scores(img, boxes[7:8])[0] < black_scores(img, boxes[:1])[0]
     named = blackball_classes(img, det)
     assert named.class_id[7] == BLACK_ID and (named.class_id[:7] == STRIPE_ID).all()
+
+
+def test_a_yellow_in_shadow_is_no_black_but_a_much_darker_one_is():
+    img, boxes = table_photo(["yellow"] * 4 + ["white"])
+    for k, light in enumerate([0.36, 0.36, 0.36, 0.3]):  # a dim table, one yellow in a little more shadow
+        x1, y1, x2, y2 = boxes[k].astype(int)
+        img[y1 : y2 + 1, x1 : x2 + 1] = (img[y1 : y2 + 1, x1 : x2 + 1] * light).astype(np.uint8)
+    det = detections(boxes, [2] * 4 + [0])
+    assert (ball_colours(img, boxes[:4]) == YELLOW).all()
+    assert black_scores(img, boxes[3:4])[0] < MAX_BLACK_SCORE  # dark enough for a black on its own
+    assert (blackball_classes(img, det).class_id[:4] == STRIPE_ID).all()  # no black on this table
+    img, boxes = table_photo(["yellow"] * 3 + ["pale-black", "white"])
+    named = blackball_classes(img, detections(boxes, [2] * 4 + [0]))
+    assert named.class_id[3] == BLACK_ID and (named.class_id[:3] == STRIPE_ID).all()
 
 
 def test_a_sure_black_stays_the_black():

@@ -52,6 +52,12 @@ MAX_BLACK_SCORE = 190.0
 """A ball that is not red is taken for an unfound black when its :func:`black_scores` is below this (blacks in the
 labelled pub frames: 84-202, median 140; yellows 168-365, median 304)."""
 
+BLACKER_THAN_YELLOWS = 0.8
+"""A ball read as yellow is taken for an unfound black only when its :func:`black_scores` is below this share of the
+median of the photo's other yellows (at least :data:`MIN_OTHER_YELLOWS` of them): a yellow in shadow is dark, but
+about as dark as the yellows beside it."""
+MIN_OTHER_YELLOWS = 2
+
 SURE_BLACK = 0.5
 """A black the detector is this sure of stays the black."""
 BLACK_CANDIDATE_SCORE = 0.25
@@ -148,6 +154,28 @@ def read_ball_set(rgb: np.ndarray, det: Detections) -> BallSet:
     return BallSet.AMERICAN
 
 
+def _blacker_than_yellows(
+    rgb: np.ndarray,
+    det: Detections,
+    objects: np.ndarray,
+    colours: np.ndarray,
+    candidates: np.ndarray,
+    scores: np.ndarray,
+) -> np.ndarray:
+    """Which black candidates (indices into ``det``, their :func:`black_scores` ``scores``) may be the black: all
+    but the yellow ones no darker than :data:`BLACKER_THAN_YELLOWS` of the photo's other yellows."""
+    yellows = objects[colours == YELLOW]
+    yellow_scores = black_scores(rgb, det.boxes[yellows])
+    ok = np.ones(len(candidates), dtype=bool)
+    for k, (cand, score) in enumerate(zip(candidates, scores, strict=True)):
+        if cand not in yellows:
+            continue
+        others = yellow_scores[(yellows != cand) & np.isfinite(yellow_scores)]
+        if len(others) >= MIN_OTHER_YELLOWS:
+            ok[k] = score < BLACKER_THAN_YELLOWS * float(np.median(others))
+    return ok
+
+
 def blackball_classes(rgb: np.ndarray, det: Detections) -> Detections:
     """The detections with every red object ball classed solid and every yellow one stripe (a blackball set's
     reds and yellows); balls of no clear colour keep their class. Numbers read by the detector are dropped
@@ -157,7 +185,8 @@ def blackball_classes(rgb: np.ndarray, det: Detections) -> Detections:
     Unless the detector is sure of a black (:data:`SURE_BLACK`), the black is found among the other balls: where one
     colour counts more than 7 balls, the blackest of them (a black mirroring the room can look yellow throughout);
     else the blackest ball that is not red (:func:`black_scores`, under :data:`MAX_BLACK_SCORE`, of score
-    :data:`BLACK_CANDIDATE_SCORE` or more: fainter ones are often pockets).
+    :data:`BLACK_CANDIDATE_SCORE` or more: fainter ones are often pockets), a yellow one only when clearly darker
+    than the other yellows (:data:`BLACKER_THAN_YELLOWS`).
     """
     objects = _object_balls(det)
     colours = ball_colours(rgb, det.boxes[objects])
@@ -175,6 +204,7 @@ def blackball_classes(rgb: np.ndarray, det: Detections) -> Detections:
             candidates = np.concatenate([blacks, objects[colours != RED]])
             candidates = candidates[det.confidence[candidates] >= BLACK_CANDIDATE_SCORE]
             scores = black_scores(rgb, det.boxes[candidates])
+            scores[~_blacker_than_yellows(rgb, det, objects, colours, candidates, scores)] = np.inf
             if len(candidates) and scores.min() < MAX_BLACK_SCORE:
                 black = candidates[int(np.argmin(scores))]
         if black is not None:
