@@ -4,7 +4,10 @@ The table model (:mod:`pix2pockets.vision.table.keypoints`) marks the playing su
 region is the table; the region's boundary runs along the cushion noses except where the frame cuts it. The
 smallest quadrilateral enclosing the region's hull splits the boundary among four sides, and a robust line through
 each side's boundary points is a cushion line. A side the boundary does not follow (the frame edge cuts it) is
-kept from the quadrilateral and marked unseen. Side-pocket peaks near the middle of a side mark it as a long rail.
+kept from the quadrilateral and marked unseen. Where the frame cuts the region so that its edges take sides of that
+quadrilateral (fewer than three cushions left), the cushions are read from the region's edge off the frame instead,
+one straight run after another, and the frame closes a fourth side only where none is in view. Side-pocket peaks
+near the middle of a side mark it as a long rail.
 
 Example:
     >>> outline = surface_outline(model.read(rgb))  # doctest: +SKIP
@@ -20,7 +23,7 @@ import numpy as np
 
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.keypoints import TableCues, cell_of_pixel, pixel_of_cell
-from pix2pockets.vision.table.quad_geometry import enclosing_quad, tls_fit
+from pix2pockets.vision.table.quad_geometry import enclosing_quad, robust_line, tls_fit
 
 SURFACE_THRESHOLD = 0.5
 UPSAMPLE = 4
@@ -36,6 +39,9 @@ SEEN_SUPPORT = 0.3
 CORNER_REACH = 0.12
 """A corner peak replaces the corner of the region's lines when it lies within this share of the shortest side."""
 CORNER_MIN_SCORE = 0.4
+MIN_CUT_LINE = 0.08
+"""A cushion line of a region the frame cuts must run along its edge for this share of the image diagonal."""
+MAX_CUT_LINES = 4
 SIDE_POCKET_REACH = 0.2
 """A side-pocket peak counts for a side when it lies within this share of the side's length of its middle and
 within this share of the side's length of its line."""
@@ -108,6 +114,61 @@ def _side_lines(points: np.ndarray, quad: np.ndarray, tol: float) -> tuple[np.nd
     return lines, support
 
 
+def _cut_region_sides(
+    points: np.ndarray, on_frame: np.ndarray, tol: float, image_size: tuple[int, int]
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """The sides of a region the frame cuts, read from its edge alone: lines (4, 3) in order round the region and
+    which of them are cushions (the others run along the frame).
+
+    Cushion lines are taken one after another from the edge points off the frame (``points[~on_frame]``, the
+    longest straight run first, each line bounding the region), while they are at least :data:`MIN_CUT_LINE` of
+    the image diagonal long. Sorted by the angle of their middles round the region's centre, three lines leave one
+    gap, which the frame closes: the line through the frame points there. Returns None without three cushion lines
+    or when they do not make a convex quadrilateral.
+    """
+    diag = float(np.hypot(*image_size))
+    centre = points.mean(axis=0)
+    left = points[~on_frame]
+    found: list[tuple[np.ndarray, float]] = []
+    while len(found) < MAX_CUT_LINES and len(left) >= 6:
+        fitted = robust_line(left, tol, bound=points, inner=centre)
+        if fitted is None:
+            break
+        line, inliers = fitted
+        along = left[inliers] @ np.array([line[1], -line[0]])
+        if float(along.max() - along.min()) < MIN_CUT_LINE * diag:
+            break
+        found.append((line, float(np.arctan2(*(left[inliers].mean(axis=0) - centre)[::-1]))))
+        left = left[~inliers]
+    if len(found) < 3:
+        return None
+    found.sort(key=lambda item: item[1])
+    lines = [line for line, _ in found]
+    seen = [True] * len(lines)
+    if len(lines) == 3:
+        angles = np.array([a for _, a in found])
+        gaps = np.diff(np.append(angles, angles[0] + 2 * np.pi))
+        k = int(np.argmax(gaps))  # the frame closes the region between line k and the next one
+        frame = points[on_frame]
+        frame_angles = np.arctan2(frame[:, 1] - centre[1], frame[:, 0] - centre[0])
+        within = np.mod(frame_angles - angles[k], 2 * np.pi) < gaps[k]
+        if within.sum() < 2:
+            return None
+        lines.insert(k + 1, tls_fit(frame[within]))
+        seen.insert(k + 1, False)
+    out = np.array(lines)
+    for k in range(4):  # normals out of the region
+        if centre @ out[k, :2] + out[k, 2] > 0:
+            out[k] = -out[k]
+    corners = _corners_of(out)
+    if not np.all(np.isfinite(corners)) or np.abs(corners).max() > 5 * diag:
+        return None
+    hull = cv2.convexHull(corners.astype(np.float32), returnPoints=False)
+    if len(hull) < 4 or cv2.contourArea(corners.astype(np.float32)) <= 0:
+        return None
+    return out, np.array(seen)
+
+
 def _corners_of(lines: np.ndarray) -> np.ndarray:
     out = np.full((4, 2), np.nan)
     for k in range(4):
@@ -178,6 +239,11 @@ def surface_outline(
     corners = _corners_of(lines)
     if not np.all(np.isfinite(corners)):
         corners = quad
+    seen = support >= SEEN_SUPPORT
+    if on_frame.any() and seen.sum() < 3:  # the frame's edges took sides of the quadrilateral: read the cushions
+        cut = _cut_region_sides(points, on_frame, tol, (w, h))
+        if cut is not None and cut[1].sum() > seen.sum():
+            corners, seen = _corners_of(cut[0]), cut[1]
     corners, from_peak = _snap_to_peaks(corners, cues)
     side_pocket = np.zeros(4)
     for k in range(4):
@@ -195,4 +261,4 @@ def surface_outline(
         cv2.fillConvexPoly(inside, np.round(corners).astype(np.int32), 1)
     fill = float((mask & inside.astype(bool)).sum()) / max(float(inside.sum()), 1.0)
     chance = float(cues.surface[region > 0].mean())
-    return SurfaceOutline(corners, support >= SEEN_SUPPORT, from_peak, side_pocket, mask, chance * min(fill, 1.0))
+    return SurfaceOutline(corners, seen, from_peak, side_pocket, mask, chance * min(fill, 1.0))

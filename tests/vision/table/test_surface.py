@@ -1,0 +1,82 @@
+"""The playing surface's outline from the table model's surface chances: whole tables and tables the frame cuts."""
+
+from __future__ import annotations
+
+import cv2
+import numpy as np
+import pytest
+
+from pix2pockets.vision.detect.letterbox import Letterbox
+from pix2pockets.vision.table.keypoints import N_TABLE_CHANNELS, STRIDE, cues_from_output, pixel_of_cell
+from pix2pockets.vision.table.quad_geometry import line_through
+from pix2pockets.vision.table.surface import surface_outline
+
+IMAGE = (768, 432)  # photo (width, height) [px]; the network input is the photo itself (scale 1)
+
+
+def cues_of(corners_px: np.ndarray):
+    """Table cues whose surface channel is 1 inside the quadrilateral ``corners_px`` (4, 2) [px], 0 outside; no
+    corner or side-pocket peaks."""
+    w, h = IMAGE
+    cols, rows = -(-w // 32) * 32 // STRIDE, -(-h // 32) * 32 // STRIDE
+    xy = pixel_of_cell(np.stack(np.meshgrid(np.arange(cols), np.arange(rows)), axis=-1).reshape(-1, 2))
+    inside = np.array([cv2.pointPolygonTest(corners_px.astype(np.float32), tuple(p), False) >= 0 for p in xy])
+    in_photo = (xy[:, 0] < w) & (xy[:, 1] < h)
+    out = np.zeros((N_TABLE_CHANNELS, rows, cols), dtype=np.float32)
+    out[0] = (inside & in_photo).reshape(rows, cols)
+    return cues_from_output(out, Letterbox(scale=1.0, size=(cols * STRIDE, rows * STRIDE)), IMAGE)
+
+
+def distance_to_line(points: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    line = line_through(a, b)
+    return np.abs(points @ line[:2] + line[2])
+
+
+def test_a_whole_table_shows_four_cushions():
+    corners = np.array([[120.0, 100.0], [640.0, 90.0], [700.0, 350.0], [70.0, 370.0]])
+    outline = surface_outline(cues_of(corners))
+    assert outline.seen.all()
+    order = [int(np.argmin(np.linalg.norm(corners - c, axis=1))) for c in outline.corners_px]
+    assert sorted(order) == [0, 1, 2, 3]
+    assert np.linalg.norm(outline.corners_px - corners[order], axis=1).max() < 4.0
+
+
+def test_a_table_cut_by_the_frame_shows_its_three_cushions_in_view():
+    """A low view: the near cushion lies below the photo and the side cushions run out of its bottom edge. The
+    three cushions in view are read from the region's edge; the frame closes the fourth side, marked unseen."""
+    far_left, far_right, near_right, near_left = np.array([[150.0, 110.0], [620.0, 95.0], [900.0, 520.0], [-150, 560]])
+    outline = surface_outline(cues_of(np.array([far_left, far_right, near_right, near_left])))
+    assert outline.seen.sum() == 3
+    sides = [(outline.corners_px[k], outline.corners_px[(k + 1) % 4]) for k in range(4)]
+    truth = [(far_left, far_right), (far_right, near_right), (near_left, far_left)]
+    for a, b in truth:  # each true cushion is one of the seen sides: its ends lie on that side's line
+        fits = [distance_to_line(np.array([a, b]), *sides[k]).max() for k in np.flatnonzero(outline.seen)]
+        assert min(fits) < 4.0, (a, b, fits)
+    unseen = sides[int(np.flatnonzero(~outline.seen)[0])]
+    assert np.all(np.abs(np.array(unseen)[:, 1] - IMAGE[1]) < 8.0)  # the frame's bottom edge closes the region
+
+
+def test_a_corner_view_cut_on_three_edges_shows_the_cushions_in_view():
+    """A low view at a corner: the frame's left, bottom and right edges cut the cloth; the cushions run out of the
+    photo at shallow angles, so the smallest quadrilateral round the region takes frame edges for sides. The
+    cushions are read from the region's edge instead, corners far outside the photo included."""
+    truth = np.array([[-377.0, 361.0], [627.0, 166.0], [1012.0, 258.0], [489.0, 453.0]])
+    outline = surface_outline(cues_of(truth))
+    assert outline.seen.sum() >= 3
+    order = [int(np.argmin(np.linalg.norm(truth - c, axis=1))) for c in outline.corners_px]
+    assert sorted(order) == [0, 1, 2, 3]
+    assert np.linalg.norm(outline.corners_px - truth[order], axis=1).max() < 6.0
+
+
+def test_a_band_across_the_photo_shows_only_two_cushions():
+    """Looking along the table from close up: only the two long cushions are in view; no third line is made up."""
+    band = np.array([[-200.0, 120.0], [1000.0, 100.0], [1000.0, 330.0], [-200.0, 360.0]])
+    outline = surface_outline(cues_of(band))
+    assert outline.seen.sum() <= 2
+
+
+@pytest.mark.parametrize("shift", [0.0, 40.0])
+def test_the_cut_table_outline_is_deterministic(shift):
+    quad = np.array([[150.0 + shift, 110.0], [620.0, 95.0], [900.0, 520.0], [-150, 560]])
+    a, b = surface_outline(cues_of(quad)), surface_outline(cues_of(quad))
+    assert np.array_equal(a.corners_px, b.corners_px) and np.array_equal(a.seen, b.seen)
