@@ -7,7 +7,8 @@ balls against the render's labels: AP50 per class (cue, black, red, yellow; reds
 yellows the stripe class id, :mod:`pix2pockets.state.ball_set`), and precision / recall at the pipeline's scores.
 
 Two readings of the set: ``--set blackball`` (the user said so) and ``auto`` (read from the balls' colours; the
-share of frames read as blackball is reported, and the classes are scored as the pipeline names them).
+share of frames read as blackball is reported, of all and of those showing at least three object balls, the fewest
+the set is read from; the classes are scored as the pipeline names them).
 
 Usage:
     PYTHONPATH=src python benchmarks/rendered_blackball.py [--n 100] [--seed 7000] [--size 960x540] [--json OUT.json]
@@ -27,6 +28,7 @@ from pix2pockets.state.ball_set import class_name
 from pix2pockets.synth.renderer import parse_size, render
 from pix2pockets.vision.classes import BALL_IDS, CLASS_NAMES
 from pix2pockets.vision.metrics.detection import GroundTruth, evaluate_classes
+from pix2pockets.vision.stages.ball_colours import MIN_COLOURED_BALLS
 
 SETS = ("blackball", "auto")
 OBJECT_IDS = (CLASS_NAMES.index("solid"), CLASS_NAMES.index("stripe"))
@@ -53,6 +55,7 @@ def main() -> None:
     truths = []
     kept: dict[str, list] = {s: [] for s in SETS}
     read_as: Counter[str] = Counter()
+    read_with_balls: Counter[str] = Counter()  # frames showing at least MIN_COLOURED_BALLS object balls
     start = time.perf_counter()
     for k in range(args.n):
         out = render(args.seed + k, size, ball_set="blackball")
@@ -62,21 +65,30 @@ def main() -> None:
             det, chosen = clean_detections_for_set(raw, out.image, ball_set)
             if ball_set == "auto":
                 read_as[chosen.value] += 1
+                if np.isin(truths[-1].class_id, OBJECT_IDS).sum() >= MIN_COLOURED_BALLS:
+                    read_with_balls[chosen.value] += 1
                 if chosen.value != "blackball":  # an American reading names no reds or yellows
                     det = det[~np.isin(det.class_id, OBJECT_IDS)]
             kept[ball_set].append(det[det.is_ball])
     seconds = time.perf_counter() - start
 
+    with_balls = max(sum(read_with_balls.values()), 1)
     report: dict = {
         "n_renders": args.n,
         "first_seed": args.seed,
         "size": list(size),
         "read_as_blackball": round(read_as["blackball"] / args.n, 4),
+        "frames_with_object_balls": sum(read_with_balls.values()),
+        "read_as_blackball_with_object_balls": round(read_with_balls["blackball"] / with_balls, 4),
         "n_balls": int(sum(len(t.boxes) for t in truths)),
         "seconds": round(seconds, 1),
     }
     print(f"{args.n} blackball renders at {size[0]}x{size[1]}, {report['n_balls']} labelled balls")
-    print(f"set read from the photo (auto): blackball in {100 * report['read_as_blackball']:.1f} % of the frames")
+    print(
+        f"set read from the photo (auto): blackball in {100 * report['read_as_blackball']:.1f} % of the frames, "
+        f"{100 * report['read_as_blackball_with_object_balls']:.1f} % of the {report['frames_with_object_balls']} "
+        f"showing at least {MIN_COLOURED_BALLS} object balls"
+    )
     header = f"{'set':10s} {'class':7s} {'balls':>6s} {'AP50':>6s} {'precision':>9s} {'recall':>7s}"
     print(header)
     print("-" * len(header))

@@ -39,7 +39,7 @@ SEEN_SUPPORT = 0.3
 CORNER_REACH = 0.12
 """A corner peak replaces the corner of the region's lines when it lies within this share of the shortest side."""
 CORNER_MIN_SCORE = 0.4
-MIN_CUT_LINE = 0.08
+MIN_CUT_LINE = 0.06
 """A cushion line of a region the frame cuts must run along its edge for this share of the image diagonal."""
 MAX_CUT_LINES = 4
 SIDE_POCKET_REACH = 0.2
