@@ -6,6 +6,9 @@ table model and ``estimate_table`` (table size from the balls). The fitted playi
 compared with the render's exact ones, either way round the table; a corner's error is divided by the table's length
 in the photo (the true outline's longer pair of opposite sides). Only corners within the frame count.
 
+A render whose frame shows fewer than three cushions (at least :data:`CUSHION_IN_VIEW` of each cushion's length) does
+not fix the table for a person either; those are counted apart, with how many the estimate refused.
+
 Usage:
     PYTHONPATH=src python benchmarks/rendered_surface_fit.py --n 100 [--seed 5000] [--size 960x540]
         [--with-sights] [--json OUT.json]
@@ -28,6 +31,21 @@ from pix2pockets.pipeline.photo import clean_detections, default_detector, read_
 from pix2pockets.vision.table.estimate import estimate_table
 from pix2pockets.vision.table.fit import TableFitError
 from pix2pockets.vision.table.quad_geometry import quad_length
+
+CUSHION_IN_VIEW = 0.2
+"""Share of a cushion's length inside the frame for it to count as in view."""
+
+
+def cushions_in_view(corners: np.ndarray, image_size: tuple[int, int], samples: int = 200) -> int:
+    """How many sides of the outline ``corners`` (4, 2) [px] lie at least :data:`CUSHION_IN_VIEW` inside the frame."""
+    w, h = image_size
+    t = np.linspace(0.0, 1.0, samples)[:, None]
+    count = 0
+    for k in range(4):
+        pts = corners[k] + t * (corners[(k + 1) % 4] - corners[k])
+        inside = (pts[:, 0] >= 0) & (pts[:, 0] <= w) & (pts[:, 1] >= 0) & (pts[:, 1] <= h)
+        count += int(inside.mean() >= CUSHION_IN_VIEW)
+    return count
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -55,7 +73,12 @@ def main(argv: list[str] | None = None) -> int:
         if not np.all(np.isfinite(truth)):
             continue
         inside = (truth[:, 0] >= 0) & (truth[:, 0] <= w) & (truth[:, 1] >= 0) & (truth[:, 1] <= h)
-        row = {"seed": seed - 1, "build": labels["style"]["build"], "corners_in_frame": int(inside.sum())}
+        row = {
+            "seed": seed - 1,
+            "build": labels["style"]["build"],
+            "corners_in_frame": int(inside.sum()),
+            "cushions_in_view": cushions_in_view(truth, (w, h)),
+        }
         t = time.perf_counter()
         det = clean_detections(detector.detect(out.image))
         try:
@@ -76,6 +99,8 @@ def main(argv: list[str] | None = None) -> int:
         rows.append(row)
 
     fits = [r for r in rows if r["fit"]]
+    fixed = [r for r in rows if r["cushions_in_view"] >= 3]
+    unfixed = [r for r in rows if r["cushions_in_view"] < 3]
     errors = np.array([e for r in fits for e in r["errors"]])
     by_build: dict[str, list[float]] = defaultdict(list)
     for r in fits:
@@ -83,6 +108,9 @@ def main(argv: list[str] | None = None) -> int:
     summary = {
         "renders": len(rows),
         "fitted": len(fits),
+        "with_three_cushions": len(fixed),
+        "fitted_with_three_cushions": sum(r["fit"] for r in fixed),
+        "fewer_cushions_refused": sum(not r["fit"] for r in unfixed),
         "with_sights": args.with_sights,
         "corner_error_median": float(np.median(errors)) if len(errors) else None,
         "corner_error_p90": float(np.percentile(errors, 90)) if len(errors) else None,
@@ -92,6 +120,10 @@ def main(argv: list[str] | None = None) -> int:
     }
     print(f"{'renders':<36} {summary['renders']}")
     print(f"{'fitted':<36} {summary['fitted']} ({summary['fitted'] / max(len(rows), 1):.0%})")
+    print(
+        f"{'  of views with >= 3 cushions':<36} {summary['fitted_with_three_cushions']} of {len(fixed)}; "
+        f"fewer cushions: {len(unfixed)}, refused {summary['fewer_cushions_refused']}"
+    )
     if len(errors):
         print(f"{'corner error, median / 90th pct':<36} {summary['corner_error_median']:.2%} / "
               f"{summary['corner_error_p90']:.2%} of the table length")  # fmt: skip
