@@ -76,6 +76,9 @@ class TableSpec:
         width: playing-surface width between cushion noses [m].
         ball_radius: ball radius [m] (57.15 mm diameter balls).
         ball_mass: ball mass [kg].
+        cue_ball_radius: the cue ball's radius [m] where it differs from the object balls' (a UK set's 1 7/8 in cue
+            ball); ``None``: ``ball_radius``.
+        cue_ball_mass: the cue ball's mass [kg] where it differs; ``None``: ``ball_mass``.
         corner_mouth: corner pocket mouth, jaw point to jaw point [m].
         side_mouth: side pocket mouth, jaw point to jaw point [m].
         corner_jaw_angle: angle between cushion nose and jaw face at a corner pocket [rad].
@@ -107,6 +110,8 @@ class TableSpec:
     diamond_setback: float = 3.6875 * INCH
     rail_width: float = 5.5 * INCH
     cushion_height: float = 0.635 * 0.05715
+    cue_ball_radius: float | None = None
+    cue_ball_mass: float | None = None
     _cache: dict = field(default_factory=dict, init=False, repr=False, compare=False, hash=False)
 
     def __post_init__(self) -> None:
@@ -127,6 +132,15 @@ class TableSpec:
         for name in positive:
             if not getattr(self, name) > 0:
                 raise ValueError(f"TableSpec.{name} must be positive, got {getattr(self, name)!r}")
+        for name in ("cue_ball_radius", "cue_ball_mass"):
+            value = getattr(self, name)
+            if value is not None and not value > 0:
+                raise ValueError(f"TableSpec.{name} must be positive or None, got {value!r}")
+        if self.cue_ball_radius is not None and not self.cue_radius < self.cushion_height < 2 * self.cue_radius:
+            raise ValueError(
+                f"TableSpec.cue_ball_radius {self.cue_radius!r} m must put the cushion nose "
+                f"({self.cushion_height!r} m) between the cue ball's equator and its top"
+            )
         if self.width >= self.length:
             raise ValueError(f"TableSpec width ({self.width} m) must be less than length ({self.length} m)")
         if self.side_mouth >= self.length / 2 or self.corner_mouth >= self.width / 2:
@@ -135,6 +149,22 @@ class TableSpec:
             angle = getattr(self, name)
             if not math.radians(60) < angle < math.radians(170):
                 raise ValueError(f"TableSpec.{name} must be between 60 and 170 degrees, got {math.degrees(angle):.1f}")
+
+    # ------------------------------------------------------------------ balls
+    @property
+    def cue_radius(self) -> float:
+        """The cue ball's radius [m]."""
+        return self.ball_radius if self.cue_ball_radius is None else self.cue_ball_radius
+
+    @property
+    def cue_mass(self) -> float:
+        """The cue ball's mass [kg]."""
+        return self.ball_mass if self.cue_ball_mass is None else self.cue_ball_mass
+
+    @property
+    def cue_contact_distance(self) -> float:
+        """Centre distance of the cue ball touching an object ball [m]."""
+        return self.cue_radius + self.ball_radius
 
     # ------------------------------------------------------------------ frame
     @property
@@ -354,6 +384,10 @@ UK_BALL_RADIUS = 1.0 * INCH
 """Object balls of a UK blackball set: 2 in (50.8 mm) across (WEPF equipment specification)."""
 UK_BALL_MASS = 0.116
 """Object ball mass of a UK set [kg] (WEPF: 116 g +- 2 g)."""
+UK_CUE_BALL_RADIUS = 0.9375 * INCH
+"""The cue ball of a UK set: 1 7/8 in (47.6 mm) across (WEPF)."""
+UK_CUE_BALL_MASS = 0.094
+"""The cue ball's mass in a UK set [kg] (WEPF: 94 g +- 2 g)."""
 
 
 def _uk_preset(name: str, length_in: float, width_in: float) -> TableSpec:
@@ -368,6 +402,8 @@ def _uk_preset(name: str, length_in: float, width_in: float) -> TableSpec:
         width=width_in * INCH,
         ball_radius=UK_BALL_RADIUS,
         ball_mass=UK_BALL_MASS,
+        cue_ball_radius=UK_CUE_BALL_RADIUS,
+        cue_ball_mass=UK_CUE_BALL_MASS,
         corner_mouth=1.75 * d,
         side_mouth=1.9 * d,
         corner_capture_radius=0.06,

@@ -165,7 +165,8 @@ class PymunkSimulator(Simulator):
             seg = pymunk.Segment(static, box[k], box[(k + 1) % 4], 0.0)
             seg.elasticity, seg.friction, seg.collision_type = self._e_cushion, 0.0, _WALL
             space.add(seg)
-        # Pocket sensors: a ball's circle overlaps the sensor exactly when its centre is in the capture circle.
+        # Pocket sensors: an object ball's circle overlaps the sensor exactly when its centre is in the capture circle
+        # (a smaller cue ball's centre must come that much further in).
         for i, pocket in enumerate(spec.pockets):
             radius = pocket.capture_radius - spec.ball_radius
             if radius <= 0:
@@ -176,10 +177,12 @@ class PymunkSimulator(Simulator):
             space.add(sensor)
 
         bodies: list[pymunk.Body] = []
+        radii = layout.radii
         for i, (x, y) in enumerate(layout.positions):
-            body = pymunk.Body(spec.ball_mass, math.inf)
+            mass = spec.cue_mass if i == layout.cue_index else spec.ball_mass
+            body = pymunk.Body(mass, math.inf)
             body.position = (float(x), float(y))
-            shape = pymunk.Circle(body, spec.ball_radius)
+            shape = pymunk.Circle(body, float(radii[i]))
             shape.elasticity, shape.friction, shape.collision_type = self._e_ball, 0.0, _BALL
             owner[shape] = i
             space.add(body, shape)
@@ -292,14 +295,14 @@ class PymunkSimulator(Simulator):
         pos = np.array([tuple(b.position) for b in bodies], dtype=float)
         keep = [i for i in range(len(bodies)) if i not in pocketed]
         # A ball resting beyond the cushion-nose band hangs in a pocket mouth: it drops in this model.
-        r = spec.ball_radius
-        inside = spec.contains(pos[keep], margin=r - tol) if keep else np.zeros(0, bool)
+        r = layout.radii
+        inside = spec.contains(pos[keep], margin=r[keep] - tol) if keep else np.zeros(0, bool)
         for i, ok in zip(list(keep), inside, strict=True):
             if not ok:
                 rec.events.append(Event(rec.time, EventType.POCKET, i, _nearest_pocket(spec, *pos[i])))
                 keep.remove(i)
         if keep:
-            pos[keep] = _settle(pos[keep], spec.ball_radius, spec.size, tol)
+            pos[keep] = _settle(pos[keep], r[keep], spec.size, tol)
         moved = [i for i in keep if np.any(pos[i] != layout.positions[i])]
         rec.events.extend(Event(rec.time, EventType.ROLLING_TO_STATIONARY, i) for i in moved)
         return ShotResult.from_events(layout, rec.events, pos)
@@ -310,17 +313,20 @@ def _nearest_pocket(spec, x: float, y: float) -> int:
     return int(np.argmin(d))
 
 
-def _settle(pos: np.ndarray, r: float, size: np.ndarray, tol: float) -> np.ndarray:
-    """Remove solver penetration (< ``tol`` [m]) so the positions form a valid layout.
+def _settle(pos: np.ndarray, r: np.ndarray, size: np.ndarray, tol: float) -> np.ndarray:
+    """Remove solver penetration (< ``tol`` [m]) so the positions form a valid layout of balls of radii ``r`` (n,)
+    [m].
 
     Raises:
         RuntimeError: a penetration deeper than ``tol`` (the solver failed).
     """
     pos = pos.copy()
+    r = np.asarray(r, dtype=float).reshape(-1, 1)
     gap = 2e-6  # [m] a little clearance beyond the layout tolerance
+    touch = r + r.T
     for _ in range(50):
         clean = True
-        lo, hi = r + gap / 2, size - r - gap / 2
+        lo, hi = r + gap / 2, size[None, :] - r - gap / 2
         if np.any(pos < lo - tol) or np.any(pos > hi + tol):
             raise RuntimeError("pymunk: a ball ended inside a cushion (penetration beyond the tolerance)")
         clipped = np.clip(pos, lo, hi)
@@ -330,9 +336,9 @@ def _settle(pos: np.ndarray, r: float, size: np.ndarray, tol: float) -> np.ndarr
             diff = pos[:, None, :] - pos[None, :, :]
             d = np.linalg.norm(diff, axis=-1)
             np.fill_diagonal(d, np.inf)
-            ii, jj = np.nonzero(np.triu(d < 2 * r + gap / 2))
+            ii, jj = np.nonzero(np.triu(d < touch + gap / 2))
             for i, j in zip(ii, jj, strict=True):
-                depth = 2 * r + gap - d[i, j]
+                depth = touch[i, j] + gap - d[i, j]
                 if depth > tol + gap:
                     raise RuntimeError(f"pymunk: balls overlap by {depth * 1000:.2f} mm after the shot")
                 n = diff[i, j] / d[i, j] if d[i, j] > 0 else np.array([1.0, 0.0])

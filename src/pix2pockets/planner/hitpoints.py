@@ -205,6 +205,7 @@ def find_hitpoints(
     kinds = {ShotKind(k) for k in kinds}
     spec = layout.spec
     r = spec.ball_radius
+    contact = spec.cue_contact_distance  # cue and object centres at impact (a UK cue ball is smaller)
     clear = 2.0 * r if clearance is None else float(clearance)
     margin = 0.5 * r if cushion_margin is None else float(cushion_margin)
     pos = layout.positions
@@ -226,7 +227,7 @@ def find_hitpoints(
                 direct = _object_leg(b, pocket.jaws, r, others, clear, spec)
             if direct is not None:
                 window, u, clear_w, dist = direct
-                ghost = b - 2.0 * r * u
+                ghost = b - contact * u
                 if ShotKind.DIRECT in kinds:
                     hp = _cue_direct(c, ghost, u, others, clear, spec, max_cut)
                     if hp is not None:
@@ -252,7 +253,7 @@ def find_hitpoints(
                     if bank is None:
                         continue
                     window, u, clear_w, dist, cushion = bank
-                    ghost = b - 2.0 * r * u
+                    ghost = b - contact * u
                     hp = _cue_direct(c, ghost, u, others, clear, spec, max_cut)
                     if hp is not None:
                         angle, cut, cue_dist = hp

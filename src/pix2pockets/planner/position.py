@@ -73,7 +73,8 @@ def direct_pot_probabilities(
         return np.zeros((0, 6))
     jaws = np.array([p.jaws for p in spec.pockets], dtype=float)  # (6, 2, 2)
     pos = np.ascontiguousarray(positions, dtype=float)
-    return _direct_pots(pos, int(cue), targets, jaws, spec.ball_radius, spec.length, spec.width, sigma, max_cut)
+    r, contact = spec.ball_radius, spec.cue_contact_distance
+    return _direct_pots(pos, int(cue), targets, jaws, r, contact, spec.length, spec.width, sigma, max_cut)
 
 
 @njit(cache=True)
@@ -94,8 +95,9 @@ def _segment_blocked(sx, sy, ex, ey, pos, cue, target, clearance):  # pragma: no
 
 
 @njit(cache=True)
-def _direct_pots(pos, cue, targets, jaws, r, length, width, sigma, max_cut):  # pragma: no cover - compiled
-    """The loops of :func:`direct_pot_probabilities`: (len(targets), 6) probabilities."""
+def _direct_pots(pos, cue, targets, jaws, r, contact, length, width, sigma, max_cut):  # pragma: no cover - compiled
+    """The loops of :func:`direct_pot_probabilities`: (len(targets), 6) probabilities; ``r`` the object balls' radius,
+    ``contact`` the cue and object centres' distance at impact [m]."""
     out = np.zeros((len(targets), 6))
     cos_max = math.cos(max_cut)
     margin = r - 1e-9
@@ -128,7 +130,7 @@ def _direct_pots(pos, cue, targets, jaws, r, length, width, sigma, max_cut):  # 
             if abs(den) > 1e-12:
                 s = max(((j1x - bx) * ey - (j1y - by) * ex) / den, 0.0)
             mx, my = bx + s * ux, by + s * uy
-            gx, gy = bx - 2 * r * ux, by - 2 * r * uy
+            gx, gy = bx - contact * ux, by - contact * uy
             cue_dist = math.hypot(gx - cx, gy - cy)
             if not cue_dist > 1e-9:
                 continue
@@ -141,7 +143,7 @@ def _direct_pots(pos, cue, targets, jaws, r, length, width, sigma, max_cut):  # 
                 continue
             if _segment_blocked(cx, cy, gx, gy, pos, cue, t, 2 * r):
                 continue
-            s_obj = cue_dist * sigma / (2 * r * max(cos_cut, 0.05))
+            s_obj = cue_dist * sigma / (contact * max(cos_cut, 0.05))
             s_obj = math.sqrt(s_obj * s_obj + sigma * sigma)
             out[i, k] = math.erf(0.5 * clear / (s_obj * math.sqrt(2.0)))
     return out

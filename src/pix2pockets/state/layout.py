@@ -49,25 +49,32 @@ class TableLayout:
         dup = [n for n, k in Counter(numbers).items() if k > 1]
         if dup:
             raise ValueError(f"ball number(s) {dup} appear more than once")
-        r = self.spec.ball_radius
+        r = self.radii
         tol = OVERLAP_TOLERANCE
         inside = self.spec.contains(pos, margin=r - tol)
         if not np.all(inside):
             i = int(np.flatnonzero(~inside)[0])
             raise ValueError(
                 f"ball {i} ({balls[i].label}) at ({pos[i, 0]:.4f}, {pos[i, 1]:.4f}) m is off the playing "
-                f"surface (centres must stay {r:.4f} m inside the cushions of a "
+                f"surface (centres must stay {r[i]:.4f} m inside the cushions of a "
                 f"{self.spec.length:.3f} x {self.spec.width:.3f} m table)"
             )
         if len(pos) > 1:
-            d = np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1)
+            d = np.linalg.norm(pos[:, None, :] - pos[None, :, :], axis=-1) - (r[:, None] + r[None, :])
             d[np.diag_indices(len(pos))] = np.inf
             i, j = np.unravel_index(np.argmin(d), d.shape)
-            if d[i, j] < 2 * r - tol:
+            if d[i, j] < -tol:
+                touch = r[i] + r[j]
                 raise ValueError(
                     f"balls {i} ({balls[i].label}) and {j} ({balls[j].label}) overlap: centres "
-                    f"{d[i, j] * 1000:.1f} mm apart, need at least {2 * r * 1000:.1f} mm"
+                    f"{(d[i, j] + touch) * 1000:.1f} mm apart, need at least {touch * 1000:.1f} mm"
                 )
+
+    @property
+    def radii(self) -> np.ndarray:
+        """Each ball's radius (n,) [m]: the table's ball radius, the cue ball's own where the set has a smaller one."""
+        cue, ball = self.spec.cue_radius, self.spec.ball_radius
+        return np.array([cue if b.ball_class is BallClass.CUE else ball for b in self.balls], dtype=float)
 
     @classmethod
     def unchecked(cls, balls: tuple[Ball, ...], positions: np.ndarray, spec: TableSpec) -> TableLayout:

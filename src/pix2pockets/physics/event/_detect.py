@@ -19,9 +19,9 @@ import math
 
 from numba import njit
 
+from pix2pockets.physics.event._balls import radius_of
 from pix2pockets.physics.event._motion import INF, ST_ROLLING, ST_SLIDING
 from pix2pockets.physics.event._roots import first_drop
-from pix2pockets.physics.event.params import P_R
 
 CONTACT_TOL = 1e-9  # [m] distances within this of contact count as touching
 APPROACH_EPS = 1e-12  # [m/s] slower approaches do not count as an immediate impact
@@ -50,7 +50,7 @@ def pair_time(i, j, now, pos, vel, acc, st, tend, prm) -> float:
     h = horizon - now
     if h < 0.0:
         h = 0.0
-    D = 2.0 * prm[P_R]
+    D = radius_of(prm, i) + radius_of(prm, j)
     rx = pos[j, 0] - pos[i, 0]
     ry = pos[j, 1] - pos[i, 1]
     vx = vel[j, 0] - vel[i, 0]
@@ -78,7 +78,7 @@ def pair_time(i, j, now, pos, vel, acc, st, tend, prm) -> float:
 @njit(cache=True)
 def env_time(i, now, pos, vel, acc, tend, prm, seg_a, seg_u, seg_n, seg_len, pts, pk_c, pk_r):
     """Next cushion/jaw/pocket event of moving ball ``i``: (absolute time, ENV_* kind, index)."""
-    R = prm[P_R]
+    R = radius_of(prm, i)
     h = tend[i] - now
     if h < 0.0:
         h = 0.0

@@ -12,6 +12,7 @@ import math
 import numpy as np
 from numba import njit
 
+from pix2pockets.physics.event._balls import radius_of
 from pix2pockets.physics.event._detect import ENV_LINE, ENV_NONE, ENV_POCKET, env_time, pair_time
 from pix2pockets.physics.event._motion import (
     COLLIDE_LOCK,
@@ -32,7 +33,6 @@ from pix2pockets.physics.event._motion import (
     strike,
     transition,
 )
-from pix2pockets.physics.event.params import P_R
 
 # Event codes (mapped to EventType by the Python wrapper).
 EV_STRIKE, EV_BALL, EV_CUSHION, EV_JAW, EV_POCKET = 0, 1, 2, 3, 4
@@ -111,7 +111,6 @@ def run_shot(
     """
     seg_a, _seg_u, seg_n, _seg_len, pts, pt_jaw, pk_c, pk_r, size = geo
     n = pos.shape[0]
-    R = prm[P_R]
     vel = np.zeros((n, 2))
     w = np.zeros((n, 3))
     acc = np.zeros((n, 2))
@@ -241,6 +240,7 @@ def run_shot(
         if st[i] == ST_POCKETED:
             continue
         x, y = pos[i, 0], pos[i, 1]
+        R = radius_of(prm, i)
         out = x < R - _SURFACE_TOL or x > L - R + _SURFACE_TOL or y < R - _SURFACE_TOL or y > W - R + _SURFACE_TOL
         if not out:
             continue

@@ -22,8 +22,8 @@ import math
 
 from numba import njit
 
+from pix2pockets.physics.event._balls import cushion_sin_of, mass_of, radius_of
 from pix2pockets.physics.event.params import (
-    P_CUSHION_SIN,
     P_E_BALL,
     P_E_CUSHION,
     P_G,
@@ -31,7 +31,6 @@ from pix2pockets.physics.event.params import (
     P_MU_ROLL,
     P_MU_SLIDE,
     P_MU_SPIN,
-    P_R,
     P_V_SETTLE,
 )
 
@@ -51,7 +50,7 @@ def moving(state: int) -> bool:
 @njit(cache=True)
 def set_motion(i, now, vel, w, st, acc, wacc, tend, prm) -> None:
     """Classify ball ``i`` from its velocity and spin at time ``now`` and set its state constants."""
-    R = prm[P_R]
+    R = radius_of(prm, i)
     g = prm[P_G]
     vx, vy = vel[i, 0], vel[i, 1]
     ux = vx - R * w[i, 1]
@@ -89,7 +88,7 @@ def set_motion(i, now, vel, w, st, acc, wacc, tend, prm) -> None:
     wacc[i, 1] = 0.0
     if abs(w[i, 2]) > EPS_SPIN:
         st[i] = ST_SPINNING
-        tend[i] = now + abs(w[i, 2]) / spin_decel(prm)
+        tend[i] = now + abs(w[i, 2]) / spin_decel(prm, i)
     else:
         st[i] = ST_STATIONARY
         w[i, 2] = 0.0
@@ -97,9 +96,9 @@ def set_motion(i, now, vel, w, st, acc, wacc, tend, prm) -> None:
 
 
 @njit(cache=True, inline="always")
-def spin_decel(prm) -> float:
-    """Angular deceleration of side spin [rad/s^2]."""
-    return 2.5 * prm[P_MU_SPIN] * prm[P_G] / prm[P_R]
+def spin_decel(prm, i) -> float:
+    """Angular deceleration of ball ``i``'s side spin [rad/s^2]."""
+    return 2.5 * prm[P_MU_SPIN] * prm[P_G] / radius_of(prm, i)
 
 
 @njit(cache=True)
@@ -107,7 +106,6 @@ def advance(n, dt, pos, vel, w, st, acc, wacc, prm) -> None:
     """Move every ball ``dt`` [s] along its current state (no state changes)."""
     if dt <= 0.0:
         return
-    dw = spin_decel(prm) * dt
     for i in range(n):
         s = st[i]
         if s in (ST_SLIDING, ST_ROLLING):
@@ -118,6 +116,7 @@ def advance(n, dt, pos, vel, w, st, acc, wacc, prm) -> None:
             w[i, 0] += dt * wacc[i, 0]
             w[i, 1] += dt * wacc[i, 1]
         if s in (ST_SLIDING, ST_ROLLING, ST_SPINNING):
+            dw = spin_decel(prm, i) * dt
             wz = w[i, 2]
             if wz > 0.0:
                 w[i, 2] = max(wz - dw, 0.0)
@@ -130,7 +129,7 @@ def transition(i, now, vel, w, st, acc, wacc, tend, prm) -> int:
     """End ball ``i``'s current state at ``now``; returns the event code (see ``_engine``)."""
     s = st[i]
     if s == ST_SLIDING:
-        R = prm[P_R]
+        R = radius_of(prm, i)
         w[i, 0] = -vel[i, 1] / R  # enforce the rolling constraint exactly
         w[i, 1] = vel[i, 0] / R
         set_motion(i, now, vel, w, st, acc, wacc, tend, prm)
@@ -160,7 +159,7 @@ def strike(i, angle, speed, side, height, elevation, vel, w, prm) -> None:
         Leckie & Greenspan 2006, sec. 4 (cue-ball strike); Alciatore, TP A.30 (natural roll at
         ``height = 0.4``). Squirt and swerve are not modelled.
     """
-    R = prm[P_R]
+    R = radius_of(prm, i)
     dx, dy = math.cos(angle), math.sin(angle)
     rx, ry = dy, -dx  # right of the aiming direction
     c = R * math.sqrt(max(1.0 - side * side - height * height, 0.0))
@@ -184,7 +183,10 @@ NUDGE_GAP = 1e-7  # [m] gap a slow, pushing pair is set to so the next contact i
 
 @njit(cache=True)
 def collide_balls(i, j, pos, vel, w, prm) -> int:
-    """Frictionless instantaneous ball-ball impact with restitution (equal masses); spins are kept.
+    """Frictionless instantaneous ball-ball impact with restitution; spins are kept.
+
+    The normal impulse ``J = (1 + e) m_i m_j / (m_i + m_j) v_rel`` changes each ball's velocity by ``J / m``: equal
+    balls exchange ``(1 + e) v_rel / 2``, a lighter cue ball bounces back from a heavier object ball.
 
     Slow contacts (normal approach below the settle speed, e.g. one ball pushing another) are not
     bounced: if the two balls barely move relative to each other the caller locks them together
@@ -206,21 +208,22 @@ def collide_balls(i, j, pos, vel, w, prm) -> int:
     dvy = vel[i, 1] - vel[j, 1]
     vrel = dvx * nx + dvy * ny
     settle = prm[P_V_SETTLE]
+    mi, mj = mass_of(prm, i), mass_of(prm, j)
+    share_i, share_j = mj / (mi + mj), mi / (mi + mj)  # each ball's share of the velocity change
     if vrel >= settle:
-        jn = 0.5 * (1.0 + prm[P_E_BALL]) * vrel
-        vel[i, 0] -= jn * nx
-        vel[i, 1] -= jn * ny
-        vel[j, 0] += jn * nx
-        vel[j, 1] += jn * ny
+        jn = (1.0 + prm[P_E_BALL]) * vrel
+        vel[i, 0] -= jn * share_i * nx
+        vel[i, 1] -= jn * share_i * ny
+        vel[j, 0] += jn * share_j * nx
+        vel[j, 1] += jn * share_j * ny
         return COLLIDE_BOUNCE
     if math.hypot(dvx, dvy) < settle:
         return COLLIDE_LOCK
     if vrel > 0.0:
-        jn = 0.5 * vrel
-        vel[i, 0] -= jn * nx
-        vel[i, 1] -= jn * ny
-        vel[j, 0] += jn * nx
-        vel[j, 1] += jn * ny
+        vel[i, 0] -= vrel * share_i * nx
+        vel[i, 1] -= vrel * share_i * ny
+        vel[j, 0] += vrel * share_j * nx
+        vel[j, 1] += vrel * share_j * ny
     _drop_normal_slip(i, nx, ny, w)
     _drop_normal_slip(j, nx, ny, w)
     return COLLIDE_NUDGE
@@ -238,8 +241,7 @@ def nudge_apart(i, j, n, pos, st, prm, length, width) -> bool:
     Returns:
         whether the pair is now apart (``False``: both balls are boxed in; the caller locks them).
     """
-    R = prm[P_R]
-    D = 2.0 * R
+    D = radius_of(prm, i) + radius_of(prm, j)
     nx = pos[j, 0] - pos[i, 0]
     ny = pos[j, 1] - pos[i, 1]
     d = math.hypot(nx, ny)
@@ -254,15 +256,17 @@ def nudge_apart(i, j, n, pos, st, prm, length, width) -> bool:
     for b, sgn in ((i, -1.0), (j, 1.0)):
         mx = pos[b, 0] + sgn * half * nx
         my = pos[b, 1] + sgn * half * ny
+        R = radius_of(prm, b)
         ok = _outside(mx, my, R, length, width) <= max(_outside(pos[b, 0], pos[b, 1], R, length, width), 0.0)
         for k in range(n):
             if not ok:
                 break
             if k in (i, j) or st[k] == ST_POCKETED:
                 continue
-            new_gap = math.hypot(mx - pos[k, 0], my - pos[k, 1]) - D
+            touch = R + radius_of(prm, k)
+            new_gap = math.hypot(mx - pos[k, 0], my - pos[k, 1]) - touch
             if new_gap < NUDGE_GAP:
-                old_gap = math.hypot(pos[b, 0] - pos[k, 0], pos[b, 1] - pos[k, 1]) - D
+                old_gap = math.hypot(pos[b, 0] - pos[k, 0], pos[b, 1] - pos[k, 1]) - touch
                 if new_gap < old_gap:
                     ok = False
                     break
@@ -285,13 +289,12 @@ def lock_cluster(i, j, n, pos, vel, w, st, prm, member) -> int:
 
     Collects every ball connected to ``i`` or ``j`` through contacts (gap below ``NUDGE_GAP``) whose
     velocity differs from the pair's by less than the settle speed, and gives them all their mean
-    velocity and spin. Momentum is conserved and kinetic energy can only drop; afterwards the members
-    share one trajectory, so no further events occur between them.
+    velocity (weighted by mass) and spin (weighted by moment of inertia). Momentum is conserved and kinetic
+    energy can only drop; afterwards the members share one trajectory, so no further events occur between them.
 
     Returns:
         the number of members; ``member`` (bool, shape (n,)) marks them.
     """
-    D = 2.0 * prm[P_R]
     settle = prm[P_V_SETTLE]
     for k in range(n):
         member[k] = False
@@ -306,28 +309,33 @@ def lock_cluster(i, j, n, pos, vel, w, st, prm, member) -> int:
         for b in range(n):
             if member[b] or st[b] == ST_POCKETED:
                 continue
-            if math.hypot(pos[b, 0] - pos[a, 0], pos[b, 1] - pos[a, 1]) - D > NUDGE_GAP:
+            touch = radius_of(prm, a) + radius_of(prm, b)
+            if math.hypot(pos[b, 0] - pos[a, 0], pos[b, 1] - pos[a, 1]) - touch > NUDGE_GAP:
                 continue
             if math.hypot(vel[b, 0] - ref_x, vel[b, 1] - ref_y) >= settle:
                 continue
             member[b] = True
             stack.append(b)
             count += 1
-    sv0 = sv1 = sw0 = sw1 = sw2 = 0.0
+    sv0 = sv1 = sw0 = sw1 = sw2 = sm = si = 0.0
     for k in range(n):
         if member[k]:
-            sv0 += vel[k, 0]
-            sv1 += vel[k, 1]
-            sw0 += w[k, 0]
-            sw1 += w[k, 1]
-            sw2 += w[k, 2]
+            m = mass_of(prm, k)
+            inertia = m * radius_of(prm, k) ** 2
+            sm += m
+            si += inertia
+            sv0 += m * vel[k, 0]
+            sv1 += m * vel[k, 1]
+            sw0 += inertia * w[k, 0]
+            sw1 += inertia * w[k, 1]
+            sw2 += inertia * w[k, 2]
     for k in range(n):
         if member[k]:
-            vel[k, 0] = sv0 / count
-            vel[k, 1] = sv1 / count
-            w[k, 0] = sw0 / count
-            w[k, 1] = sw1 / count
-            w[k, 2] = sw2 / count
+            vel[k, 0] = sv0 / sm
+            vel[k, 1] = sv1 / sm
+            w[k, 0] = sw0 / si
+            w[k, 1] = sw1 / si
+            w[k, 2] = sw2 / si
     return count
 
 
@@ -357,7 +365,7 @@ def collide_cushion(i, nx, ny, vel, w, prm) -> None:
         "A theoretical analysis of billiard ball dynamics under cushion impacts", Proc. IMechE C 224,
         2010, sec. 2; pooltool's ``impulse_frictional_inelastic`` cushion model uses the same law).
     """
-    R = prm[P_R]
+    R = radius_of(prm, i)
     vn = vel[i, 0] * nx + vel[i, 1] * ny
     settle = prm[P_V_SETTLE]
     if vn > -settle:
@@ -368,7 +376,7 @@ def collide_cushion(i, nx, ny, vel, w, prm) -> None:
             vel[i, 0] = -vt * ny
             vel[i, 1] = vt * nx
         return
-    s = prm[P_CUSHION_SIN]
+    s = cushion_sin_of(prm, i)
     c = math.sqrt(1.0 - s * s)
     # contact point relative to the centre, and the unit normal from it to the centre
     rx, ry, rz = -R * c * nx, -R * c * ny, R * s
@@ -399,12 +407,13 @@ def collide_cushion(i, nx, ny, vel, w, prm) -> None:
 
 @njit(cache=True)
 def kinetic_energy(n, vel, w, st, prm) -> float:
-    """Total kinetic energy per unit ball mass [J/kg] of the balls still on the table."""
-    R = prm[P_R]
+    """Total kinetic energy per unit object-ball mass [J/kg] of the balls still on the table."""
     k = 0.0
     for i in range(n):
         if st[i] == ST_POCKETED:
             continue
-        k += 0.5 * (vel[i, 0] ** 2 + vel[i, 1] ** 2)
-        k += 0.2 * R * R * (w[i, 0] ** 2 + w[i, 1] ** 2 + w[i, 2] ** 2)
+        R = radius_of(prm, i)
+        m = mass_of(prm, i)
+        k += 0.5 * m * (vel[i, 0] ** 2 + vel[i, 1] ** 2)
+        k += 0.2 * m * R * R * (w[i, 0] ** 2 + w[i, 1] ** 2 + w[i, 2] ** 2)
     return k

@@ -12,6 +12,11 @@ P_MU_SLIDE, P_MU_ROLL, P_MU_SPIN, P_E_BALL, P_E_CUSHION, P_MU_CUSHION, P_G, P_R 
 P_V_SETTLE = 8
 P_CUSHION_SIN = 9  # sine of the angle between the cushion contact normal and the table plane
 N_PARAMS = 10
+BALL_FIELDS = 3
+"""Entries per ball in the optional per-ball block after the ``N_PARAMS`` shared ones: radius [m], mass relative
+to an object ball [-] and the sine of its cushion contact tilt (:func:`ball_block`). Without the block every ball
+has ``P_R``, mass 1 and ``P_CUSHION_SIN``."""
+B_RADIUS, B_MASS, B_CUSHION_SIN = range(BALL_FIELDS)
 
 SPIN_FRICTION_PER_METRE = 10.0 * 2.0 / (5.0 * 9.0)
 """pooltool's spinning-friction proportionality [1/m]: ``mu_spin = SPIN_FRICTION_PER_METRE * R``."""
@@ -94,8 +99,26 @@ class PhysicsParams:
         out[P_G] = self.g
         out[P_R] = ball_radius
         out[P_V_SETTLE] = self.settle_speed
-        sin_tilt = 0.0 if cushion_height is None else (cushion_height - ball_radius) / ball_radius
-        if not -1.0 < sin_tilt < 1.0:
-            raise ValueError(f"cushion height {cushion_height} m must be between 0 and 2 R = {2 * ball_radius} m")
-        out[P_CUSHION_SIN] = sin_tilt
+        out[P_CUSHION_SIN] = cushion_sine(ball_radius, cushion_height)
         return out
+
+    def packed_balls(
+        self, ball_radius: float, cushion_height: float | None, radii: np.ndarray, masses: np.ndarray
+    ) -> np.ndarray:
+        """:meth:`packed` followed by the per-ball block: ball ``i``'s radius ``radii[i]`` [m] and mass ``masses[i]``
+        relative to an object ball, for balls of different sizes (a UK set's smaller cue ball)."""
+        radii = np.asarray(radii, dtype=float).reshape(-1)
+        masses = np.asarray(masses, dtype=float).reshape(-1)
+        if radii.shape != masses.shape or not (np.all(radii > 0) and np.all(masses > 0)):
+            raise ValueError("radii and masses must be positive, one of each per ball")
+        block = np.column_stack([radii, masses, [cushion_sine(r, cushion_height) for r in radii]])
+        return np.concatenate([self.packed(ball_radius, cushion_height), block.reshape(-1)])
+
+
+def cushion_sine(ball_radius: float, cushion_height: float | None) -> float:
+    """Sine of the downward tilt of the cushion contact normal for a ball of ``ball_radius`` [m]: the nose at
+    ``cushion_height`` [m] touches it ``asin((h - R) / R)`` above its equator (0 for ``None``)."""
+    sin_tilt = 0.0 if cushion_height is None else (cushion_height - ball_radius) / ball_radius
+    if not -1.0 < sin_tilt < 1.0:
+        raise ValueError(f"cushion height {cushion_height} m must be between 0 and 2 R = {2 * ball_radius} m")
+    return sin_tilt

@@ -42,6 +42,9 @@ CORNER_MIN_SCORE = 0.4
 MIN_CUT_LINE = 0.06
 """A cushion line of a region the frame cuts must run along its edge for this share of the image diagonal."""
 MAX_CUT_LINES = 4
+MAX_CUT_REGION_SHARE = 0.8
+"""A region the frame cuts that fills more of the photo than this shows too little of its edge to read cushions from
+(a blank wall or a close-up the model takes for cloth)."""
 SIDE_POCKET_REACH = 0.2
 """A side-pocket peak counts for a side when it lies within this share of the side's length of its middle and
 within this share of the side's length of its line."""
@@ -240,7 +243,8 @@ def surface_outline(
     if not np.all(np.isfinite(corners)):
         corners = quad
     seen = support >= SEEN_SUPPORT
-    if on_frame.any() and seen.sum() < 3:  # the frame's edges took sides of the quadrilateral: read the cushions
+    share = region.sum() * cell_area / (w * h)
+    if on_frame.any() and seen.sum() < 3 and share <= MAX_CUT_REGION_SHARE:  # frame edges took sides: read cushions
         cut = _cut_region_sides(points, on_frame, tol, (w, h))
         if cut is not None and cut[1].sum() > seen.sum():
             corners, seen = _corners_of(cut[0]), cut[1]
