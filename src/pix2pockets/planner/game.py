@@ -1,0 +1,153 @@
+"""Whole games between two players: visits, fouls and their penalty, ball in hand, until one of them wins.
+
+The rules judge one shot at a time (:mod:`pix2pockets.rules`); a game strings the shots together:
+
+- a legal pot lets the shooter go on in the same visit;
+- a legal miss ends the visit: the opponent comes to the table, unless the shooter still has a visit owed;
+- a foul hands the opponent ``TurnResult.penalty_visits`` visits (one under 8-ball rules, two under blackball rules)
+  and the cue ball in hand: they place it anywhere free on the table (:func:`place_cue_ball`);
+- the black potted legally wins, a loss (the black early, or with a foul) hands the game to the opponent.
+
+An open table stays open until a legal pot gives the shooter a group; the opponent then has the other. The game
+starts from the given layout (e.g. a rack already broken), the first player at the table with an open table.
+
+Example:
+    >>> record = play_game(layout, (search, oracle), make_simulator("event"), "blackball", noise, rng)  # doctest: +SKIP
+    >>> record.winner, record.shots, record.fouls  # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from pix2pockets.physics.base import Simulator
+from pix2pockets.planner.base import Planner
+from pix2pockets.planner.noise import NoiseModel
+from pix2pockets.rules import GameState, Judge, Outcome, judge_for
+from pix2pockets.state import Ball, TableLayout
+from pix2pockets.state.ball_set import BallSet
+
+PLACEMENT_GRID = (4, 2)
+"""Ball-in-hand spots tried: a grid of this many columns (along the table) and rows, inside the cushions."""
+MAX_SHOTS = 200
+"""A game still going after this many shots is called unfinished."""
+
+
+@dataclass(frozen=True, slots=True)
+class GameRecord:
+    """How a game went.
+
+    Attributes:
+        winner: 0 or 1, the player who won; ``None`` when the game reached the shot limit.
+        shots: shots played.
+        visits: visits to the table.
+        fouls: fouls committed, per player (2,).
+        pots: own balls legally potted, per player (2,).
+        final: the layout when the game ended.
+    """
+
+    winner: int | None
+    shots: int
+    visits: int
+    fouls: tuple[int, int]
+    pots: tuple[int, int]
+    final: TableLayout
+
+
+def place_cue_ball(layout: TableLayout, planner: Planner, state: GameState, rng: np.random.Generator) -> TableLayout:
+    """Ball in hand: the cue ball put where ``planner`` likes its best shot most.
+
+    The spots of :data:`PLACEMENT_GRID` that are free (no ball within a cue-ball-plus-ball distance, one ball
+    radius off the cushions) are tried; the planner's best suggestion from each is ranked by its success estimate,
+    then its value. ``layout`` must hold no cue ball.
+
+    Raises:
+        ValueError: the layout already has a cue ball, or no spot is free.
+    """
+    if layout.cue_index is not None:
+        raise ValueError("the layout already has a cue ball; ball in hand places a missing one")
+    spec = layout.spec
+    cols, rows = PLACEMENT_GRID
+    xs = spec.length * (np.arange(cols) + 0.5) / cols
+    ys = spec.width * (np.arange(rows) + 0.5) / rows
+    spots = [np.array([x, y]) for x in xs for y in ys]
+    clearance = spec.cue_contact_distance + 0.5 * spec.ball_radius
+    best, best_key = None, None
+    for xy in spots:
+        if len(layout) and np.min(np.linalg.norm(layout.positions - xy, axis=1)) < clearance:
+            continue
+        placed = TableLayout((*layout.balls, Ball.numbered(0)), np.vstack([layout.positions, xy]), spec)
+        top = planner.suggest(placed, state, rng)[0]
+        key = (top.success_probability or 0.0, top.value)
+        if best_key is None or key > best_key:
+            best, best_key = placed, key
+    if best is None:
+        raise ValueError("no free spot for the cue ball")
+    return best
+
+
+def play_game(
+    layout: TableLayout,
+    players: Sequence[Planner],
+    simulator: Simulator,
+    ball_set: BallSet | str,
+    noise: NoiseModel,
+    rng: np.random.Generator,
+    max_shots: int = MAX_SHOTS,
+    judge: Judge | None = None,
+) -> GameRecord:
+    """Play one game from ``layout`` between two planners, each stroke executed with ``noise``.
+
+    Args:
+        layout: the table when the first player comes to it (with its cue ball, or without: ball in hand).
+        players: the two planners; ``players[0]`` shoots first.
+        simulator: the physics.
+        ball_set: the rules: 8-ball for ``american``, WEPF blackball for ``blackball``
+            (:func:`~pix2pockets.rules.judge_for`).
+        noise: how each player's strokes stray.
+        rng: all randomness (planning, noise, placement).
+        max_shots: the game is called unfinished after this many shots.
+        judge: judges each shot instead of the set's rules (e.g. a variant of them).
+
+    Returns:
+        The :class:`GameRecord`.
+    """
+    if len(players) != 2:
+        raise ValueError(f"a game needs two players, got {len(players)}")
+    judge = judge or judge_for(ball_set)
+    groups: list = [None, None]
+    fouls, pots = [0, 0], [0, 0]
+    player, owed, visits, shots = 0, 1, 1, 0
+    while shots < max_shots:
+        state = GameState(groups[player])
+        if layout.cue_index is None:
+            layout = place_cue_ball(layout, players[player], state, rng)
+        suggestion = players[player].suggest(layout, state, rng)[0]
+        result = simulator.simulate(layout, noise.perturb(suggestion.shot, rng))
+        judged = judge(result, state)
+        shots += 1
+        pots[player] += len(judged.legal_pots)
+        if judged.group is not None and groups[player] is None:
+            groups[player], groups[1 - player] = judged.group, judged.group.other
+        if judged.outcome is Outcome.WIN:
+            return GameRecord(player, shots, visits, (fouls[0], fouls[1]), (pots[0], pots[1]), result.final)
+        if judged.outcome is Outcome.LOSS:
+            return GameRecord(1 - player, shots, visits, (fouls[0], fouls[1]), (pots[0], pots[1]), result.final)
+        layout = result.final
+        if judged.outcome is Outcome.CONTINUE:
+            continue
+        visits += 1
+        if judged.outcome is Outcome.FOUL:
+            fouls[player] += 1
+            player, owed = 1 - player, judged.penalty_visits
+            cue = layout.cue_index
+            if cue is not None:  # ball in hand: the incoming player places it
+                layout = layout.without([cue])
+            continue
+        owed -= 1
+        if owed <= 0:
+            player, owed = 1 - player, 1
+    return GameRecord(None, shots, visits, (fouls[0], fouls[1]), (pots[0], pots[1]), layout)

@@ -1,0 +1,90 @@
+"""Whole games: visits, the penalty visits after a foul, ball in hand, a winner."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from pix2pockets.physics import make_simulator
+from pix2pockets.planner.base import Suggestion
+from pix2pockets.planner.evaluation import ours_protocol
+from pix2pockets.planner.game import GameRecord, place_cue_ball, play_game
+from pix2pockets.planner.noise import noise_model
+from pix2pockets.planner.registry import make_planner
+from pix2pockets.rules import Foul, Outcome, TurnResult
+from pix2pockets.state import Shot
+
+SIM = make_simulator("event")
+NOISE = noise_model("pro")
+
+
+class Nudge:
+    """A planner that always plays the same very soft stroke."""
+
+    name = "nudge"
+
+    def suggest(self, layout, state, rng=None):
+        return [Suggestion(Shot(angle=0.3, speed=0.05), success_probability=0.5)]
+
+
+def scripted(*outcomes: Outcome):
+    """A judge that hands out ``outcomes`` in order (a foul with blackball's two penalty visits)."""
+    queue = list(outcomes)
+
+    def judge(result, state):
+        outcome = queue.pop(0)
+        foul = outcome is Outcome.FOUL
+        return TurnResult(outcome, state.group, (Foul.NO_CONTACT,) if foul else (), (), 2 if foul else 0)
+
+    return judge
+
+
+def small_layout(seed: int = 0):
+    return ours_protocol().layout(16, seed, 0)
+
+
+@pytest.mark.parametrize("penalty", [1, 2])
+def test_a_foul_gives_the_opponent_its_penalty_visits(penalty):
+    """Foul by player 0, then misses, then a win: who wins shows whose visit it was. With two penalty visits player
+    1 shoots the second and third shots, player 0 the fourth and player 1 the fifth; with one, they alternate."""
+    outcomes = [Outcome.FOUL, Outcome.END_TURN, Outcome.END_TURN, Outcome.END_TURN, Outcome.WIN]
+    judge = scripted(*outcomes)
+
+    def with_penalty(result, state):
+        judged = judge(result, state)
+        return TurnResult(judged.outcome, judged.group, judged.fouls, (), penalty if judged.fouls else 0)
+
+    record = play_game(small_layout(), (Nudge(), Nudge()), SIM, "blackball", NOISE, np.random.default_rng(0),
+                       judge=with_penalty)  # fmt: skip
+    assert isinstance(record, GameRecord)
+    assert record.shots == 5 and record.fouls == (1, 0) and record.visits == 5
+    assert record.winner == (1 if penalty == 2 else 0)
+
+
+def test_a_loss_hands_the_game_to_the_opponent():
+    record = play_game(small_layout(), (Nudge(), Nudge()), SIM, "american", NOISE, np.random.default_rng(0),
+                       judge=scripted(Outcome.END_TURN, Outcome.LOSS))  # fmt: skip
+    assert record.winner == 0 and record.shots == 2
+
+
+def test_ball_in_hand_goes_to_a_free_spot_the_planner_likes():
+    layout = small_layout()
+    without = layout.without([layout.cue_index])
+    placed = place_cue_ball(without, make_planner("oracle"), ours_protocol().state, np.random.default_rng(0))
+    assert placed.cue_index is not None and len(placed) == len(layout)  # a valid layout (validated on creation)
+    with pytest.raises(ValueError, match="already has a cue ball"):
+        place_cue_ball(layout, make_planner("oracle"), ours_protocol().state, np.random.default_rng(0))
+
+
+def test_a_real_game_is_deterministic_and_ends():
+    players = (make_planner("oracle"), make_planner("oracle"))
+    runs = [play_game(small_layout(3), players, SIM, "blackball", NOISE, np.random.default_rng(7)) for _ in range(2)]
+    a, b = runs
+    assert (a.winner, a.shots, a.visits, a.fouls, a.pots) == (b.winner, b.shots, b.visits, b.fouls, b.pots)
+    assert np.array_equal(a.final.positions, b.final.positions)
+    assert a.winner in (0, 1, None) and a.shots >= 1
+
+
+def test_two_players_are_needed():
+    with pytest.raises(ValueError, match="two players"):
+        play_game(small_layout(), (Nudge(),), SIM, "american", NOISE, np.random.default_rng(0))
