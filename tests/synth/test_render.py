@@ -219,3 +219,18 @@ def test_american_set_is_the_default():
     assert a.image.tobytes() == b.image.tobytes() and a.labels["ball_set"] == "american"
     with pytest.raises(ValueError, match="ball set"):
         render(5, SIZE, ball_set="snooker")
+
+
+def test_a_uk_cue_ball_is_drawn_smaller_than_the_object_balls():
+    """Seen from above, the 1 7/8 in cue ball covers about (1 7/8 / 2)^2 = 0.88 of an object ball's pixels."""
+    ratios = []
+    for seed in range(6):
+        rend = render(seed, (960, 540), camera_kind="top", ball_set="blackball")
+        whole = [b for b in rend.labels["balls"] if b["labelled"] and b["occluded_fraction"] == 0]
+        cue = [b["visible_px"] for b in whole if b["number"] == 0]
+        others = [b["visible_px"] for b in whole if b["number"] != 0]
+        if cue and len(others) >= 3:
+            ratios.append(cue[0] / float(np.median(others)))
+            heights = {b["number"]: b["centre_table_m"][2] for b in rend.labels["balls"]}
+            assert heights[0] < min(z for n, z in heights.items() if n != 0)  # centre height = radius
+    assert ratios and 0.8 < float(np.median(ratios)) < 0.95, ratios

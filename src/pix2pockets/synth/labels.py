@@ -144,7 +144,7 @@ def build_labels(
     balls = []
     for i, (ball, centre) in enumerate(zip(scene.layout.balls, scene.ball_centres, strict=True)):
         k = sc.ID_BALL0 + i
-        outline = sphere_outline_px(cam, centre, r)
+        outline = sphere_outline_px(cam, centre, centre[2])  # on the cloth: centre height = radius
         area = polygon_area(outline) if outline is not None else float("nan")
         full_box = (
             _clip_box(np.array([*outline.min(axis=0), *outline.max(axis=0)]), w, h) if outline is not None else None

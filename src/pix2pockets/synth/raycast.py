@@ -80,7 +80,6 @@ def shade_ray(
     rx1 = geo[codes.G_RX1]
     ry0 = geo[codes.G_RY0]
     ry1 = geo[codes.G_RY1]
-    br = geo[codes.G_BR]
     liner = geo[codes.G_LINER]
     dr = geo[codes.G_DR]
     zhb = geo[codes.G_ZHB]
@@ -116,7 +115,8 @@ def shade_ray(
         py = oy - balls[i, 1]
         pz = oz - balls[i, 2]
         bq = px * dx + py * dy + pz * dz
-        cq = px * px + py * py + pz * pz - br * br
+        rb = balls[i, 2]  # a ball rests on the cloth: its centre's height is its radius
+        cq = px * px + py * py + pz * pz - rb * rb
         disc = bq * bq - cq
         if disc < 0.0:
             continue
@@ -369,9 +369,10 @@ def shade_ray(
     if hit >= codes.ID_BALL0:
         i = aux
         self_ball = i
-        nx = (px - balls[i, 0]) / br
-        ny = (py - balls[i, 1]) / br
-        nz = (pz - balls[i, 2]) / br
+        rb = balls[i, 2]
+        nx = (px - balls[i, 0]) / rb
+        ny = (py - balls[i, 1]) / rb
+        nz = (pz - balls[i, 2]) / rb
         q0 = rots[i, 0, 0] * nx + rots[i, 0, 1] * ny + rots[i, 0, 2] * nz
         q1 = rots[i, 1, 0] * nx + rots[i, 1, 1] * ny + rots[i, 1, 2] * nz
         q2 = rots[i, 2, 0] * nx + rots[i, 2, 1] * ny + rots[i, 2, 2] * nz
@@ -404,7 +405,7 @@ def shade_ray(
             for j in range(nb):
                 ddx = px - balls[j, 0]
                 ddy = py - balls[j, 1]
-                d2 = (ddx * ddx + ddy * ddy) / (br * br)
+                d2 = (ddx * ddx + ddy * ddy) / (balls[j, 2] * balls[j, 2])
                 if d2 < 16.0:
                     ao *= 1.0 - shade[codes.S_AO] * (1.0 / (1.0 + d2)) ** 1.5
             e = min(min(px, L - px), min(py, Wd - py))
@@ -532,9 +533,7 @@ def shade_ray(
         atten = lights[li, 3] * min(1.5, hl * hl / d2)
         vis = 1.0
         if receives_ball_shadow or hit >= codes.ID_BALL0:
-            vis = ball_shadow(
-                px, py, pz, lights[li, 0], lights[li, 1], lights[li, 2], lights[li, 7], balls, br, self_ball
-            )
+            vis = ball_shadow(px, py, pz, lights[li, 0], lights[li, 1], lights[li, 2], lights[li, 7], balls, self_ball)
         e = atten * vis * (ndl if hit < codes.ID_BALL0 else ndl * (0.8 + 0.2 * ao))
         lr += e * lights[li, 4]
         lg += e * lights[li, 5]

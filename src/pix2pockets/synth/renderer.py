@@ -136,9 +136,9 @@ def _trace_into(
     n = len(centres)
     bboxes = np.full((n, 4), -1, np.int64)
     for i, c in enumerate(centres):
-        outline = sphere_outline_px(cam, c, scene.spec.ball_radius)
+        outline = sphere_outline_px(cam, c, c[2])  # centre height = radius
         if outline is None:
-            if cam.world_to_camera(c)[2] > -scene.spec.ball_radius:
+            if cam.world_to_camera(c)[2] > -c[2]:
                 bboxes[i] = [0, 0, w, h]
             continue
         lo = np.floor(outline.min(axis=0)) - 2

@@ -81,9 +81,9 @@ class Scene:
 
     @property
     def ball_centres(self) -> np.ndarray:
-        """Ball centres in 3-D [m], shape (n, 3): on the cloth, so z = ball radius."""
-        pos = self.layout.positions
-        return np.column_stack([pos, np.full(len(pos), self.spec.ball_radius)])
+        """Ball centres in 3-D [m], shape (n, 3): on the cloth, so z = each ball's radius (a UK set's cue ball is
+        smaller, :attr:`TableLayout.radii`)."""
+        return np.column_stack([self.layout.positions, self.layout.radii])
 
     @property
     def has_sights(self) -> bool:

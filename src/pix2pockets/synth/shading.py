@@ -233,8 +233,9 @@ def hole_depth(ox, oy, oz, dx, dy, dz, t0, holes, k, zbottom):
 
 
 @njit(cache=True)
-def ball_shadow(px, py, pz, lx, ly, lz, lsize, balls, r, skip):
-    """Fraction of a spherical light (radius ``lsize``) seen from point p past all balls."""
+def ball_shadow(px, py, pz, lx, ly, lz, lsize, balls, skip):
+    """Fraction of a spherical light (radius ``lsize``) seen from point p past all balls (centres ``balls`` (n, 3) on
+    the cloth, so each centre's height is that ball's radius)."""
     vx = lx - px
     vy = ly - py
     vz = lz - pz
@@ -247,6 +248,7 @@ def ball_shadow(px, py, pz, lx, ly, lz, lsize, balls, r, skip):
     for j in range(balls.shape[0]):
         if j == skip:
             continue
+        r = balls[j, 2]
         # cheap cull: where the segment to the light crosses the ball centre's height, it must pass
         # within a few radii of the centre (plus the penumbra of a large light)
         tc = (balls[j, 2] - pz) / lift
