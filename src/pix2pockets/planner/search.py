@@ -216,9 +216,9 @@ class SearchPlanner:
         targets = legal_targets(layout, state)
         if not targets:
             return [fallback_shot(layout, state, cfg.speeds[0])]
-        r = layout.spec.ball_radius
+        half_contact = 0.5 * layout.spec.cue_contact_distance  # the ball radius, unless the cue ball is smaller
         hps = find_hitpoints(layout, targets, kinds=cfg.kinds, max_cut=cfg.max_cut)
-        priors = [pot_probability(h, r, sigma) for h in hps]
+        priors = [pot_probability(h, half_contact, sigma) for h in hps]
         order = sorted(range(len(hps)), key=lambda i: -priors[i])
         endgame = len(targets) <= cfg.endgame
         strokes: list[_Stroke] = []
@@ -284,11 +284,11 @@ class SearchPlanner:
     def _fan(self, hps: list[Hitpoint], layout, state, sigma, endgame: bool = False) -> list[_Stroke]:
         """Clean executions over an aim fan per stroke; keep the strokes with a potting run."""
         cfg = self.config
-        r = layout.spec.ball_radius
+        contact = layout.spec.cue_contact_distance
         speeds = cfg.endgame_speeds if endgame else cfg.speeds
         rows, meta = [], []
         for hp in hps:
-            gain = max(hp.cue_distance / (2 * r * max(math.cos(hp.cut_angle), 0.1)), 1.0)
+            gain = max(hp.cue_distance / (contact * max(math.cos(hp.cut_angle), 0.1)), 1.0)
             tol = float(np.clip(0.5 * hp.clear_window / gain, math.radians(0.03), math.radians(2.0)))
             offsets = np.linspace(-1.5 * tol, 1.5 * tol, cfg.fan)
             direct = hp.kind is ShotKind.DIRECT
