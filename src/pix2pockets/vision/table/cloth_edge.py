@@ -53,6 +53,12 @@ MAX_REACH = 0.05
 CENTRE_SIGMA = 0.1
 """Spread of the principal point about the image centre, as a share of the image size, when a camera is moved onto
 snapped corners."""
+MIN_FOCAL = 0.5
+"""Shortest believable focal length, as a share of the image's long side (a 90-degree field of view). A table seen
+from nearly straight above fixes the focal length only weakly; a much shorter one puts the camera too near, and the
+parallax between the cushion tops and the cloth then shrinks the playing surface by several percent."""
+FOCAL_FLOOR_SIGMA = 0.05
+"""Spread of the log focal length below :data:`MIN_FOCAL` allowed when a camera is moved onto the corners."""
 
 
 @dataclass(frozen=True, slots=True)
@@ -204,20 +210,26 @@ def snap_fit(rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.nd
     first = snap_to_cloth_edge(rgb, outline, colour, reach, sides)
     second = snap_to_cloth_edge(rgb, first.corners_px, colour, SECOND_REACH_PX, sides)
     moved = int((first.moved | second.moved).sum())
-    if not moved:
+    floor = MIN_FOCAL * max(w, h)
+    if not moved and fit.camera.K[1, 1] >= floor:
         return fit
-    corners = second.corners_px
-    camera = camera_through_outline(corners, (w, h), spec) or _camera_near(fit.camera, spec, corners)
+    corners = second.corners_px if moved else outline
+    camera = camera_through_outline(corners, (w, h), spec)
+    if camera is None or camera.K[1, 1] < floor:  # none, or one too near: the nearest of a believable focal length
+        camera = _camera_near(camera or fit.camera, spec, corners, floor) or camera
     if camera is None:
         return fit
     return replace(fit, camera=head_rail_convention(camera, spec), cloth_edges=moved)
 
 
-def _camera_near(camera: PinholeCamera, spec: TableSpec, corners: np.ndarray) -> PinholeCamera | None:
+def _camera_near(
+    camera: PinholeCamera, spec: TableSpec, corners: np.ndarray, focal_floor: float = 0.0
+) -> PinholeCamera | None:
     """``camera`` moved to see the cloth outline of ``spec`` at ``corners`` (4, 2) [px]: focal length, principal
     point, rotation and translation by least squares, its pixel stretch kept. The principal point is held near
     the image centre by a weak prior (:data:`CENTRE_SIGMA` of the image size), so the four corners are met where a
-    camera with square-on optics cannot (lens distortion, a cropped photo)."""
+    camera with square-on optics cannot (lens distortion, a cropped photo); a focal length below ``focal_floor``
+    [px] costs (:data:`FOCAL_FLOOR_SIGMA`), which settles the distance of a view from above."""
     world = np.column_stack([outline_rectangle(spec, CUSHION_WIDTH), np.full(4, spec.cushion_height)])
     K = camera.K
     stretch = K[0, 0] / K[1, 1]
@@ -228,7 +240,8 @@ def _camera_near(camera: PinholeCamera, spec: TableSpec, corners: np.ndarray) ->
         f = math.exp(p[0])
         u = cam[:, 0] / cam[:, 2] * f * stretch + p[7]
         v = cam[:, 1] / cam[:, 2] * f + p[8]
-        prior = [(p[7] - K[0, 2]) / (CENTRE_SIGMA * w), (p[8] - K[1, 2]) / (CENTRE_SIGMA * h)]
+        below = max(math.log(focal_floor) - p[0], 0.0) / FOCAL_FLOOR_SIGMA if focal_floor > 0 else 0.0
+        prior = [(p[7] - K[0, 2]) / (CENTRE_SIGMA * w), (p[8] - K[1, 2]) / (CENTRE_SIGMA * h), below]
         return np.concatenate([u - corners[:, 0], v - corners[:, 1], prior])
 
     p0 = np.concatenate([[math.log(K[1, 1])], cv2.Rodrigues(camera.R)[0].ravel(), camera.t, K[:2, 2]])
