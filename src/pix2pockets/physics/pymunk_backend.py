@@ -177,10 +177,9 @@ class PymunkSimulator(Simulator):
             space.add(sensor)
 
         bodies: list[pymunk.Body] = []
-        radii = layout.radii
+        radii, masses = layout.radii, layout.masses
         for i, (x, y) in enumerate(layout.positions):
-            mass = spec.cue_mass if i == layout.cue_index else spec.ball_mass
-            body = pymunk.Body(mass, math.inf)
+            body = pymunk.Body(float(masses[i]), math.inf)
             body.position = (float(x), float(y))
             shape = pymunk.Circle(body, float(radii[i]))
             shape.elasticity, shape.friction, shape.collision_type = self._e_ball, 0.0, _BALL

@@ -28,6 +28,7 @@ from pix2pockets.planner.base import Planner
 from pix2pockets.planner.noise import NoiseModel
 from pix2pockets.rules import GameState, Judge, Outcome, judge_for
 from pix2pockets.state import Ball, TableLayout
+from pix2pockets.state.ball import Group
 from pix2pockets.state.ball_set import BallSet
 
 PLACEMENT_GRID = (4, 2)
@@ -118,7 +119,7 @@ def play_game(
     if len(players) != 2:
         raise ValueError(f"a game needs two players, got {len(players)}")
     judge = judge or judge_for(ball_set)
-    groups: list = [None, None]
+    groups: list[Group | None] = [None, None]
     fouls, pots = [0, 0], [0, 0]
     player, owed, visits, shots = 0, 1, 1, 0
     while shots < max_shots:

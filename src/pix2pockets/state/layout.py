@@ -73,8 +73,15 @@ class TableLayout:
     @property
     def radii(self) -> np.ndarray:
         """Each ball's radius (n,) [m]: the table's ball radius, the cue ball's own where the set has a smaller one."""
-        cue, ball = self.spec.cue_radius, self.spec.ball_radius
-        return np.array([cue if b.ball_class is BallClass.CUE else ball for b in self.balls], dtype=float)
+        return self._per_ball(self.spec.cue_radius, self.spec.ball_radius)
+
+    @property
+    def masses(self) -> np.ndarray:
+        """Each ball's mass (n,) [kg]: the table's ball mass, the cue ball's own where the set has a lighter one."""
+        return self._per_ball(self.spec.cue_mass, self.spec.ball_mass)
+
+    def _per_ball(self, cue: float, other: float) -> np.ndarray:
+        return np.array([cue if b.ball_class is BallClass.CUE else other for b in self.balls], dtype=float)
 
     @classmethod
     def unchecked(cls, balls: tuple[Ball, ...], positions: np.ndarray, spec: TableSpec) -> TableLayout:

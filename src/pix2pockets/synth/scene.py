@@ -223,7 +223,6 @@ def sample_scene(
     geo[sc.G_RX1] = L + rw + rng.uniform(1.0, 4.0)
     geo[sc.G_RY0] = -rw - rng.uniform(1.0, 4.0)
     geo[sc.G_RY1] = W + rw + rng.uniform(1.0, 4.0)
-    geo[sc.G_BR] = spec.ball_radius
     geo[sc.G_LINER] = rng.uniform(0.006, 0.025)
     geo[sc.G_DR] = rng.uniform(0.0055, 0.0085)
     geo[sc.G_KC] = _jaw_slope(spec.corner_jaw_angle)

@@ -12,14 +12,15 @@ import numpy as np
 
 # ---- geometry vector indices (metres, table frame)
 G_L, G_W, G_H, G_HR, G_CW, G_RW, G_ZA, G_BI, G_ZF, G_ZC = range(10)
-G_RX0, G_RX1, G_RY0, G_RY1, G_BR, G_LINER, G_DR, G_KC, G_KS, G_DC, G_SS, G_ZHB = range(10, 22)
-G_LEGS, G_LEGW, G_SKIRT = range(22, 25)  # legs: 0 closed cabinet, 4 or 6 legs; leg width, skirt depth [m]
-G_RUGX, G_RUGY = range(25, 27)  # half-size of a rug under the table [m] (0: none)
-G_PLATE, G_PLATE_SQ = range(27, 29)  # metal pocket plates on the rail cap: reach from the hole centre [m] (0: none),
+G_RX0, G_RX1, G_RY0, G_RY1, G_LINER, G_DR, G_KC, G_KS, G_DC, G_SS, G_ZHB = range(10, 21)
+# balls carry their own radii: a ball's centre rests at the height of its radius (Scene.ball_centres)
+G_LEGS, G_LEGW, G_SKIRT = range(21, 24)  # legs: 0 closed cabinet, 4 or 6 legs; leg width, skirt depth [m]
+G_RUGX, G_RUGY = range(24, 26)  # half-size of a rug under the table [m] (0: none)
+G_PLATE, G_PLATE_SQ = range(26, 28)  # metal pocket plates on the rail cap: reach from the hole centre [m] (0: none),
 # 1 square (Chebyshev reach) or 0 round
-G_BOXW, G_BOXD, G_BOXZ0, G_BOXZ1 = range(29, 33)  # coin box on the foot end: half-width along y, reach beyond the
+G_BOXW, G_BOXD, G_BOXZ0, G_BOXZ1 = range(28, 32)  # coin box on the foot end: half-width along y, reach beyond the
 # apron face, bottom and top height [m] (half-width 0: none)
-N_GEO = 33
+N_GEO = 32
 # ---- shading vector indices
 S_AMB, S_CLOTH_TEX, S_CLOTH_SCALE, S_RAIL_TEX, S_RAIL_GLOSS, S_RAIL_SHIN, S_BALL_KS, S_BALL_SHIN = range(8)
 S_FLOOR_SCALE, S_BOUNCE, S_DIA_SHAPE, S_CUE_DOTS, S_BAND, S_NUMR, S_REFL, S_ROOM = range(8, 16)

@@ -85,7 +85,7 @@ class ThreadWorker:
 
 
 class ProcessWorker:
-    """A worker process, started by spawn: it shares none of the server's threads or ONNX Runtime inference sessions."""
+    """A worker in a spawned process of its own: no threads or ONNX Runtime sessions shared with the server."""
 
     def __init__(self, spec: EngineSpec, index: int, job_timeout: float) -> None:
         self.spec = spec

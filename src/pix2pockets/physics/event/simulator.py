@@ -79,7 +79,8 @@ class EventSimulator(Simulator):
             except TypeError as err:
                 raise ValueError(f"unknown event-simulator parameter: {err}") from None
         self.params = base
-        self._geo_cache: dict = {}  # spec -> (table, params); (spec, n, cue) -> params with a per-ball block
+        self._geo_cache: dict[TableSpec, tuple] = {}
+        self._ball_cache: dict[tuple[TableSpec, int, int], np.ndarray] = {}
 
     def _prepare(self, layout: TableLayout) -> tuple[int, np.ndarray, tuple]:
         if not isinstance(layout, TableLayout):
@@ -94,19 +95,18 @@ class EventSimulator(Simulator):
             self._geo_cache[spec] = cached
         if spec.cue_radius == spec.ball_radius and spec.cue_mass == spec.ball_mass:
             return cue, cached[1], cached[0]
-        return cue, self._ball_params(spec, len(layout), cue), cached[0]
+        return cue, self._ball_params(layout), cached[0]
 
-    def _ball_params(self, spec: TableSpec, n: int, cue: int) -> np.ndarray:
-        """Packed parameters with a per-ball block: the cue ball (index ``cue`` of ``n``) its own size and mass."""
-        key = (spec, n, cue)
-        prm = self._geo_cache.get(key)
+    def _ball_params(self, layout: TableLayout) -> np.ndarray:
+        """Packed parameters with a per-ball block: each ball's radius and mass (:attr:`TableLayout.radii`,
+        :attr:`TableLayout.masses`), cached per table, ball count and cue index."""
+        spec = layout.spec
+        key = (spec, len(layout), layout.cue_index)
+        prm = self._ball_cache.get(key)
         if prm is None:
-            radii = np.full(n, spec.ball_radius)
-            masses = np.ones(n)
-            radii[cue] = spec.cue_radius
-            masses[cue] = spec.cue_mass / spec.ball_mass
-            prm = self.params.packed_balls(spec.ball_radius, spec.cushion_height, radii, masses)
-            self._geo_cache[key] = prm
+            masses = layout.masses / spec.ball_mass
+            prm = self.params.packed_balls(spec.ball_radius, spec.cushion_height, layout.radii, masses)
+            self._ball_cache[key] = prm
         return prm
 
     def simulate(self, layout: TableLayout, shot: Shot, stop: StopAfter = StopAfter.REST) -> ShotResult:
