@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import cv2
 import numpy as np
 import pytest
@@ -10,7 +12,7 @@ from pix2pockets.vision.detect.letterbox import Letterbox
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.keypoints import N_TABLE_CHANNELS, STRIDE, TableModel, cues_from_output, pixel_of_cell
 from pix2pockets.vision.table.quad_geometry import line_through
-from pix2pockets.vision.table.surface import MAX_CUT_REGION_SHARE, surface_outline
+from pix2pockets.vision.table.surface import MAX_CUT_REGION_SHARE, surface_agreement, surface_outline
 
 IMAGE = (768, 432)  # photo (width, height) [px]; the network input is the photo itself (scale 1)
 
@@ -96,3 +98,44 @@ def test_a_region_filling_the_photo_gives_no_cushions_from_scraps_of_its_edge():
     except TableFitError:
         return
     assert outline.seen.sum() < 3
+
+
+def cues_with_peaks(surface_polygons: list[np.ndarray], peaks_px: np.ndarray):
+    """Table cues whose surface is 1 inside any of ``surface_polygons``, with corner peaks at ``peaks_px`` (k, 2)."""
+    w, h = IMAGE
+    cols, rows = -(-w // 32) * 32 // STRIDE, -(-h // 32) * 32 // STRIDE
+    xy = pixel_of_cell(np.stack(np.meshgrid(np.arange(cols), np.arange(rows)), axis=-1).reshape(-1, 2))
+    inside = np.zeros(len(xy), dtype=bool)
+    for poly in surface_polygons:
+        inside |= np.array([cv2.pointPolygonTest(poly.astype(np.float32), tuple(p), False) >= 0 for p in xy])
+    out = np.zeros((N_TABLE_CHANNELS, rows, cols), dtype=np.float32)
+    out[0] = (inside & (xy[:, 0] < w) & (xy[:, 1] < h)).reshape(rows, cols)
+    cues = cues_from_output(out, Letterbox(scale=1.0, size=(cols * STRIDE, rows * STRIDE)), IMAGE)
+    return replace(cues, corners_px=np.asarray(peaks_px, dtype=float), corner_scores=np.full(len(peaks_px), 0.6))
+
+
+TABLE = np.array([[200.0, 230.0], [520.0, 225.0], [600.0, 380.0], [130.0, 390.0]])
+WALL = np.array([[470.0, 0.0], [560.0, 0.0], [560.0, 230.0], [470.0, 230.0]])  # a cloth-coloured wall joining the table
+
+
+def test_the_corner_peaks_outline_a_table_whose_surface_leaks_into_a_wall():
+    """The region joins table and wall, so its enclosing quadrilateral takes in the wall; the four corner peaks
+    round the table agree far better with the surface and give the outline."""
+    outline = surface_outline(cues_with_peaks([TABLE, WALL], TABLE), np.array([[360.0, 300.0]]))
+    assert outline.from_peak.all() and outline.seen.all()
+    order = [int(np.argmin(np.linalg.norm(TABLE - c, axis=1))) for c in outline.corners_px]
+    assert sorted(order) == [0, 1, 2, 3]
+    assert np.allclose(outline.corners_px, TABLE[order])
+
+
+def test_corner_peaks_off_the_surface_do_not_replace_the_tables_outline():
+    picture = np.array([[600.0, 40.0], [700.0, 40.0], [700.0, 120.0], [600.0, 120.0]])  # peaks round a wall picture
+    outline = surface_outline(cues_with_peaks([TABLE], picture), np.array([[360.0, 300.0]]))
+    assert np.linalg.norm(outline.corners_px[:, None] - TABLE[None], axis=2).min(axis=1).max() < 4.0
+
+
+def test_surface_agreement_counts_cloth_in_and_penalises_what_is_not():
+    cues = cues_with_peaks([TABLE], np.zeros((0, 2)))
+    grown = TABLE + 60.0 * np.sign(TABLE - TABLE.mean(axis=0))
+    assert surface_agreement(cues, TABLE) > surface_agreement(cues, grown)
+    assert surface_agreement(cues, TABLE) > surface_agreement(cues, 0.5 * (TABLE + TABLE.mean(axis=0))) > 0

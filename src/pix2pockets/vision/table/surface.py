@@ -9,6 +9,12 @@ quadrilateral (fewer than three cushions left), the cushions are read from the r
 one straight run after another, and the frame closes a fourth side only where none is in view. Side-pocket peaks
 near the middle of a side mark it as a long rail.
 
+The model's corner peaks give a second hypothesis: four of them round a convex quadrilateral. Where the surface
+region leaks past the table (a wall or a floor of the cloth's colour joins it), the region's quadrilateral takes in
+far more than the table; the corner peaks do not. Of the two, the outline that agrees better with the model's
+surface chances (:func:`surface_agreement`: the chance less one half, summed over the cells inside), by a clear
+margin, counting the balls it leaves out against it, wins.
+
 Example:
     >>> outline = surface_outline(model.read(rgb))  # doctest: +SKIP
     >>> outline.corners_px, outline.seen, outline.side_pocket  # doctest: +SKIP
@@ -16,6 +22,7 @@ Example:
 
 from __future__ import annotations
 
+import itertools
 from dataclasses import dataclass
 
 import cv2
@@ -45,6 +52,14 @@ MAX_CUT_LINES = 4
 MAX_CUT_REGION_SHARE = 0.8
 """A region the frame cuts that fills more of the photo than this shows too little of its edge to read cushions from
 (a blank wall or a close-up the model takes for cloth)."""
+PEAK_QUAD_MIN_SCORE = 0.25
+"""Corner peaks at least this sure may make a four-peak outline."""
+PEAK_QUAD_GAIN = 0.15
+"""A four-peak outline replaces the region's when it agrees with the surface by this share more (a peak a few
+pixels off a corner the region's edge reads well must not win by a hair) ..."""
+PEAK_QUAD_BALL_COST = 0.02
+"""... counting against it this share of the region's agreement for each ball inside the region's outline that it
+leaves out (a ball is no proof: ball returns and players' hands hold balls too)."""
 SIDE_POCKET_REACH = 0.2
 """A side-pocket peak counts for a side when it lies within this share of the side's length of its middle and
 within this share of the side's length of its line."""
@@ -172,6 +187,48 @@ def _cut_region_sides(
     return out, np.array(seen)
 
 
+def surface_agreement(cues: TableCues, quad_px: np.ndarray) -> float:
+    """How well an outline ``quad_px`` (4, 2) [px] matches the model's surface: the sum over the output cells inside
+    it of the surface chance less one half (cells of cloth add, cells off it take away)."""
+    cells = cell_of_pixel(np.asarray(quad_px, dtype=float) * cues.letterbox.scale)
+    if not np.all(np.abs(cells) < 1e5):
+        return -np.inf
+    inside = np.zeros(cues.surface.shape, dtype=np.uint8)
+    cv2.fillPoly(inside, [np.round(cells * 8).astype(np.int32)], 1, shift=3)
+    return float((cues.surface[inside > 0] - 0.5).sum())
+
+
+def _balls_inside(quad_px: np.ndarray, ball_centres_px: np.ndarray) -> int:
+    contour = np.asarray(quad_px, dtype=np.float32).reshape(-1, 1, 2)
+    return sum(cv2.pointPolygonTest(contour, (float(x), float(y)), False) >= 0 for x, y in ball_centres_px)
+
+
+def _convex(quad: np.ndarray) -> bool:
+    edges = np.roll(quad, -1, axis=0) - quad
+    turns = edges[:, 0] * np.roll(edges, -1, axis=0)[:, 1] - edges[:, 1] * np.roll(edges, -1, axis=0)[:, 0]
+    return bool(np.all(turns > 0) or np.all(turns < 0))
+
+
+def peak_quad(cues: TableCues, ball_centres_px: np.ndarray, ball_cost: float = 0.0) -> tuple[np.ndarray, float] | None:
+    """The four corner peaks (of those at least :data:`PEAK_QUAD_MIN_SCORE`) round the convex quadrilateral that
+    scores best: its agreement with the surface (:func:`surface_agreement`) less ``ball_cost`` for each of the
+    balls ``ball_centres_px`` (n, 2) [px] it leaves out. Its corners (4, 2) [px] in order round it and its score;
+    None when no four peaks make one."""
+    peaks_px = cues.corners_px[cues.corner_scores >= PEAK_QUAD_MIN_SCORE]
+    best: tuple[np.ndarray, float] | None = None
+    for idx in itertools.combinations(range(len(peaks_px)), 4):
+        quad = peaks_px[list(idx)]
+        centre = quad.mean(axis=0)
+        quad = quad[np.argsort(np.arctan2(quad[:, 1] - centre[1], quad[:, 0] - centre[0]))]
+        if not _convex(quad):
+            continue
+        left_out = len(ball_centres_px) - _balls_inside(quad, ball_centres_px)
+        score = surface_agreement(cues, quad) - ball_cost * left_out
+        if best is None or score > best[1]:
+            best = (quad, score)
+    return best
+
+
 def _corners_of(lines: np.ndarray) -> np.ndarray:
     out = np.full((4, 2), np.nan)
     for k in range(4):
@@ -249,6 +306,12 @@ def surface_outline(
         if cut is not None and cut[1].sum() > seen.sum():
             corners, seen = _corners_of(cut[0]), cut[1]
     corners, from_peak = _snap_to_peaks(corners, cues)
+    if np.all(np.isfinite(corners)):  # the corner peaks' own outline, where it fits the surface better
+        region_agreement = surface_agreement(cues, corners)
+        held = balls[[_balls_inside(corners, balls[i : i + 1]) > 0 for i in range(len(balls))]]
+        peaks_only = peak_quad(cues, held, PEAK_QUAD_BALL_COST * abs(region_agreement))
+        if peaks_only is not None and peaks_only[1] > region_agreement + PEAK_QUAD_GAIN * abs(region_agreement):
+            corners, seen, from_peak = peaks_only[0], np.ones(4, dtype=bool), np.ones(4, dtype=bool)
     side_pocket = np.zeros(4)
     for k in range(4):
         a, b = corners[k], corners[(k + 1) % 4]
