@@ -1,6 +1,7 @@
 """Calibration of the reported success chances: predicted vs observed success, in bins (reliability diagram).
 
-Plays seeded all-ball turns (the ``evaluate planner`` layouts) with the search planner for one skill level.
+Plays seeded all-ball turns (the ``evaluate planner`` layouts) with the search planner for one skill level;
+``--seed`` with several seeds pools their decisions (``--shots`` each).
 At every decision it records the planner's own estimate (``Suggestion.success_probability``), the measured
 chance of the chosen stroke (:func:`pix2pockets.planner.chance.measure_chance`, fresh draws of the same
 noise) and whether the one executed stroke (another fresh draw) succeeded. Bins of 10 points of predicted
@@ -32,40 +33,44 @@ from pix2pockets.rules import GameState, Outcome
 EDGES = np.linspace(0.0, 1.0, 11)
 
 
-def collect(skill: str, shots: int, seed: int, samples: int, time_budget: float | None) -> dict:
-    """Play turns until ``shots`` decisions are recorded; per decision (planner p, measured p, success)."""
+def collect(skill: str, shots: int, seeds: list[int], samples: int, time_budget: float | None) -> dict:
+    """Per seed, play turns until ``shots`` decisions are recorded; the decisions of all seeds pooled
+    (planner p, measured p, success)."""
     noise = noise_model(skill)
     planner = make_planner("search", noise=skill, time_budget=time_budget)
     sim = make_simulator("event")
     protocol = ours_protocol()
     rows: list[tuple[float, float, int]] = []
-    turn = 0
+    turns = 0
     t0 = time.perf_counter()
-    while len(rows) < shots:
-        layout, state = protocol.layout(16, seed, turn), protocol.state
-        rng = np.random.default_rng([seed, turn, 1])
-        plan_rng, noise_rng, chance_rng = (np.random.default_rng(s) for s in rng.bit_generator.seed_seq.spawn(3))
-        turn += 1
-        while len(rows) < shots and legal_targets(layout, state):
-            best = planner.suggest(layout, state, plan_rng)[0]
-            measured = measure_chance(planner, layout, state, best.shot, noise, samples, chance_rng)
-            estimate = best.success_probability or 0.0  # a fallback or safety stroke carries no estimate
-            try:
-                result = sim.simulate(layout, noise.perturb(best.shot, noise_rng))
-            except RuntimeError:
-                rows.append((estimate, measured.p, 0))
-                break
-            judged = protocol.judge(result, state)
-            ok = judged.shot_succeeded
-            rows.append((estimate, measured.p, int(ok)))
-            if judged.outcome is not Outcome.CONTINUE or result.final.cue_index is None:
-                break
-            layout, state = result.final, GameState(judged.group)
+    for seed in seeds:
+        wanted, turn = len(rows) + shots, 0
+        while len(rows) < wanted:
+            layout, state = protocol.layout(16, seed, turn), protocol.state
+            rng = np.random.default_rng([seed, turn, 1])
+            plan_rng, noise_rng, chance_rng = (np.random.default_rng(s) for s in rng.bit_generator.seed_seq.spawn(3))
+            turn += 1
+            while len(rows) < wanted and legal_targets(layout, state):
+                best = planner.suggest(layout, state, plan_rng)[0]
+                measured = measure_chance(planner, layout, state, best.shot, noise, samples, chance_rng)
+                estimate = best.success_probability or 0.0  # a fallback or safety stroke carries no estimate
+                try:
+                    result = sim.simulate(layout, noise.perturb(best.shot, noise_rng))
+                except RuntimeError:
+                    rows.append((estimate, measured.p, 0))
+                    break
+                judged = protocol.judge(result, state)
+                ok = judged.shot_succeeded
+                rows.append((estimate, measured.p, int(ok)))
+                if judged.outcome is not Outcome.CONTINUE or result.final.cue_index is None:
+                    break
+                layout, state = result.final, GameState(judged.group)
+        turns += turn
     arr = np.array(rows)
     return {
         "skill": skill,
-        "seed": seed,
-        "turns": turn,
+        "seeds": seeds,
+        "turns": turns,
         "shots": len(rows),
         "chance_samples": samples,
         "time_budget_s": time_budget,
@@ -128,8 +133,8 @@ def plot(results: list[dict], path: str) -> None:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--skill", nargs="+", default=["pro"], help="skill levels (default pro)")
-    ap.add_argument("--shots", type=int, default=2000, help="decisions per skill (2000)")
-    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--shots", type=int, default=2000, help="decisions per skill and seed (2000)")
+    ap.add_argument("--seed", type=int, nargs="+", default=[0], help="layout seeds, their decisions pooled (0)")
     ap.add_argument("--samples", type=int, default=200, help="sampled strokes behind each measured chance (200)")
     ap.add_argument("--time-budget", type=float, default=None, help="planner budget [s] (default none)")
     ap.add_argument("--json", help="write the tables here")
@@ -139,7 +144,7 @@ def main() -> None:
     for skill in args.skill:
         res = collect(skill, args.shots, args.seed, args.samples, args.time_budget)
         results.append(res)
-        print(f"{skill}: {res['shots']} shots over {res['turns']} turns, {res['wall_s']:.0f} s")
+        print(f"{skill}: {res['shots']} shots over {res['turns']} turns (seeds {res['seeds']}), {res['wall_s']:.0f} s")
         for key in ("measured_chance", "planner_estimate"):
             print(f"  {key}")
             for r in res[key]:

@@ -11,7 +11,7 @@ from pix2pockets.planner.evaluation import ours_protocol
 from pix2pockets.planner.game import GameRecord, place_cue_ball, play_game
 from pix2pockets.planner.noise import noise_model
 from pix2pockets.planner.registry import make_planner
-from pix2pockets.rules import Foul, Outcome, TurnResult
+from pix2pockets.rules import Foul, InHand, Outcome, TurnResult
 from pix2pockets.state import Shot
 
 SIM = make_simulator("event")
@@ -74,6 +74,54 @@ def test_ball_in_hand_goes_to_a_free_spot_the_planner_likes():
     assert placed.cue_index is not None and len(placed) == len(layout)  # a valid layout (validated on creation)
     with pytest.raises(ValueError, match="already has a cue ball"):
         place_cue_ball(layout, make_planner("oracle"), ours_protocol().state, np.random.default_rng(0))
+
+
+def test_ball_in_hand_in_baulk_stays_behind_the_baulk_line():
+    layout = small_layout()
+    without = layout.without([layout.cue_index])
+    placed = place_cue_ball(
+        without, make_planner("oracle"), ours_protocol().state, np.random.default_rng(0), InHand.BAULK
+    )
+    assert placed.positions[placed.cue_index, 0] <= layout.spec.baulk_line_x
+    anywhere = place_cue_ball(without, make_planner("oracle"), ours_protocol().state, np.random.default_rng(0))
+    assert anywhere.cue_index is not None
+    with pytest.raises(ValueError, match="needs an area"):
+        place_cue_ball(without, make_planner("oracle"), ours_protocol().state, np.random.default_rng(0), InHand.NONE)
+
+
+class Recorder(Nudge):
+    """The nudging planner, keeping every layout it is asked about."""
+
+    def __init__(self, seen):
+        self.seen = seen
+
+    def suggest(self, layout, state, rng=None):
+        self.seen.append(layout)
+        return super().suggest(layout, state, rng)
+
+
+@pytest.mark.parametrize(("in_hand", "placed"), [(InHand.NONE, False), (InHand.BAULK, True), (InHand.TABLE, True)])
+def test_after_a_foul_the_cue_ball_lies_or_is_placed_as_the_rules_say(in_hand, placed):
+    """A foul leaving the cue ball where it lies (blackball) gives the opponent that layout; in hand, they place
+    it (in baulk: behind the baulk line)."""
+    queue = [Outcome.FOUL, Outcome.WIN]
+
+    def judge(result, state):
+        outcome = queue.pop(0)
+        foul = outcome is Outcome.FOUL
+        fouls = (Foul.NO_CONTACT,) if foul else ()
+        return TurnResult(outcome, state.group, fouls, (), 2 if foul else 0, in_hand if foul else InHand.NONE)
+
+    seen = []
+    players = (Recorder(seen), Recorder(seen))
+    layout = small_layout()
+    play_game(layout, players, SIM, "blackball", NOISE, np.random.default_rng(0), judge=judge)
+    first_final = SIM.simulate(layout, NOISE.perturb(Nudge().suggest(layout, None)[0].shot, np.random.default_rng(0)))
+    cue_after = seen[1].positions[seen[1].cue_index]
+    lies = np.allclose(cue_after, first_final.final.positions[first_final.final.cue_index])
+    assert lies != placed
+    if in_hand is InHand.BAULK:
+        assert cue_after[0] <= layout.spec.baulk_line_x
 
 
 def test_a_real_game_is_deterministic_and_ends():

@@ -7,6 +7,7 @@ from pix2pockets.rules import (
     PENALTY_VISITS,
     Foul,
     GameState,
+    InHand,
     Outcome,
     blackball_turn_outcome,
     judge_for,
@@ -79,6 +80,18 @@ def test_a_foul_gives_two_visits_in_blackball_and_ball_in_hand_in_eight_ball() -
     assert blackball_turn_outcome(res, GameState(R)).penalty_visits == 2
     assert turn_outcome(res, GameState(R)).penalty_visits == 1
     assert turn_outcome(res, GameState(R)).ball_in_hand
+
+
+def test_after_a_foul_the_cue_ball_is_in_hand_in_baulk_only_when_it_dropped() -> None:
+    """WEPF: a foul leaves the cue ball where it lies; a dropped cue ball is played from baulk. 8-ball: in hand."""
+    dropped = shot(FULL, POS, 2, True, (0,))
+    lies = shot(FULL, POS, 4, True, ())
+    assert blackball_turn_outcome(dropped, GameState(R)).in_hand is InHand.BAULK
+    assert blackball_turn_outcome(dropped, GameState(R)).ball_in_hand
+    assert blackball_turn_outcome(lies, GameState(R)).in_hand is InHand.NONE
+    assert not blackball_turn_outcome(lies, GameState(R)).ball_in_hand
+    assert turn_outcome(lies, GameState(R)).in_hand is InHand.TABLE
+    assert not blackball_turn_outcome(shot(FULL, POS, 2, True, (2,)), GameState(R)).ball_in_hand  # no foul
 
 
 def test_the_ball_set_picks_the_rules() -> None:

@@ -183,6 +183,12 @@ class TableSpec:
         return self.length / 4
 
     @property
+    def baulk_line_x(self) -> float:
+        """x of the baulk line of blackball (a fifth of the length from the head cushion, the one farthest from the
+        spot; WEPF rules) [m]."""
+        return self.length / 5
+
+    @property
     def foot_spot(self) -> np.ndarray:
         """The foot spot, where the rack's apex ball sits [m]."""
         return np.array([0.75 * self.length, 0.5 * self.width])

@@ -5,7 +5,8 @@ The rules judge one shot at a time (:mod:`pix2pockets.rules`); a game strings th
 - a legal pot lets the shooter go on in the same visit;
 - a legal miss ends the visit: the opponent comes to the table, unless the shooter still has a visit owed;
 - a foul hands the opponent ``TurnResult.penalty_visits`` visits (one under 8-ball rules, two under blackball rules)
-  and the cue ball in hand: they place it anywhere free on the table (:func:`place_cue_ball`);
+  and the cue ball where ``TurnResult.in_hand`` says: under 8-ball rules in hand anywhere free on the table
+  (:func:`place_cue_ball`); under blackball rules where it lies, or in hand behind the baulk line when it dropped;
 - the black potted legally wins, a loss (the black early, or with a foul) hands the game to the opponent.
 
 An open table stays open until a legal pot gives the shooter a group; the opponent then has the other. The game
@@ -26,7 +27,7 @@ import numpy as np
 from pix2pockets.physics.base import Simulator
 from pix2pockets.planner.base import Planner
 from pix2pockets.planner.noise import NoiseModel
-from pix2pockets.rules import GameState, Judge, Outcome, judge_for
+from pix2pockets.rules import GameState, InHand, Judge, Outcome, judge_for
 from pix2pockets.state import Ball, TableLayout
 from pix2pockets.state.ball import Group
 from pix2pockets.state.ball_set import BallSet
@@ -58,21 +59,31 @@ class GameRecord:
     final: TableLayout
 
 
-def place_cue_ball(layout: TableLayout, planner: Planner, state: GameState, rng: np.random.Generator) -> TableLayout:
+def place_cue_ball(
+    layout: TableLayout,
+    planner: Planner,
+    state: GameState,
+    rng: np.random.Generator,
+    area: InHand = InHand.TABLE,
+) -> TableLayout:
     """Ball in hand: the cue ball put where ``planner`` likes its best shot most.
 
-    The spots of :data:`PLACEMENT_GRID` that are free (no ball within a cue-ball-plus-ball distance, one ball
-    radius off the cushions) are tried; the planner's best suggestion from each is ranked by its success estimate,
-    then its value. ``layout`` must hold no cue ball.
+    The spots of :data:`PLACEMENT_GRID` over ``area`` (the whole table, or the baulk area between the head cushion
+    and :attr:`~pix2pockets.geometry.table.TableSpec.baulk_line_x`) that are free (no ball within a
+    cue-ball-plus-ball distance) are tried; the planner's best suggestion from each is ranked by its success
+    estimate, then its value. ``layout`` must hold no cue ball.
 
     Raises:
         ValueError: the layout already has a cue ball, or no spot is free.
     """
     if layout.cue_index is not None:
         raise ValueError("the layout already has a cue ball; ball in hand places a missing one")
+    if area is InHand.NONE:
+        raise ValueError("ball in hand needs an area to place the cue ball in (table or baulk)")
     spec = layout.spec
     cols, rows = PLACEMENT_GRID
-    xs = spec.length * (np.arange(cols) + 0.5) / cols
+    reach = spec.baulk_line_x if area is InHand.BAULK else spec.length
+    xs = reach * (np.arange(cols) + 0.5) / cols
     ys = spec.width * (np.arange(rows) + 0.5) / rows
     spots = [np.array([x, y]) for x in xs for y in ys]
     clearance = spec.cue_contact_distance + 0.5 * spec.ball_radius
@@ -122,10 +133,11 @@ def play_game(
     groups: list[Group | None] = [None, None]
     fouls, pots = [0, 0], [0, 0]
     player, owed, visits, shots = 0, 1, 1, 0
+    in_hand = InHand.TABLE  # a layout without its cue ball: placed anywhere
     while shots < max_shots:
         state = GameState(groups[player])
         if layout.cue_index is None:
-            layout = place_cue_ball(layout, players[player], state, rng)
+            layout = place_cue_ball(layout, players[player], state, rng, in_hand)
         suggestion = players[player].suggest(layout, state, rng)[0]
         result = simulator.simulate(layout, noise.perturb(suggestion.shot, rng))
         judged = judge(result, state)
@@ -145,7 +157,8 @@ def play_game(
             fouls[player] += 1
             player, owed = 1 - player, judged.penalty_visits
             cue = layout.cue_index
-            if cue is not None:  # ball in hand: the incoming player places it
+            in_hand = judged.in_hand if judged.in_hand is not InHand.NONE or cue is not None else InHand.BAULK
+            if cue is not None and judged.ball_in_hand:  # the incoming player picks it up to place it
                 layout = layout.without([cue])
             continue
         owed -= 1

@@ -6,6 +6,7 @@ from pix2pockets.rules.blackball import PENALTY_VISITS, blackball_shot_fouls, bl
 from pix2pockets.rules.eight_ball import (
     Foul,
     GameState,
+    InHand,
     Outcome,
     TurnResult,
     assigned_group,
@@ -34,6 +35,7 @@ __all__ = [
     "PENALTY_VISITS",
     "Foul",
     "GameState",
+    "InHand",
     "Judge",
     "Outcome",
     "TurnResult",

@@ -6,7 +6,9 @@ matter to one shot:
 
 * with the groups decided, potting an opponent's ball is a foul (:attr:`Foul.OPPONENT_POTTED`), even when an own
   ball drops too;
-* a foul gives the opponent **two visits** (``penalty_visits=2``) instead of ball in hand;
+* a foul gives the opponent **two visits** (``penalty_visits=2``); the cue ball is played from where it lies, or,
+  when it dropped, from anywhere behind the baulk line (``in_hand=InHand.BAULK``; WEPF rules, "Playing from
+  Baulk");
 * an open table is decided by the first colour potted on a legal shot; both colours may drop on it.
 
 The rest is common to both games: the cue ball must first hit a ball on (any colour on an open table, the black
@@ -16,7 +18,7 @@ and the black wins only on a legal shot after the group was cleared (else the fr
 
 from __future__ import annotations
 
-from pix2pockets.rules.eight_ball import Foul, GameState, TurnResult, judge_turn, shot_fouls
+from pix2pockets.rules.eight_ball import Foul, GameState, InHand, TurnResult, judge_turn, shot_fouls
 from pix2pockets.state.result import ShotResult
 
 PENALTY_VISITS = 2
@@ -39,4 +41,6 @@ def blackball_shot_fouls(result: ShotResult, state: GameState) -> tuple[Foul, ..
 
 def blackball_turn_outcome(result: ShotResult, state: GameState) -> TurnResult:
     """Judge one shot under blackball rules: win, loss, foul (two visits), continue or end of turn."""
-    return judge_turn(result, state, blackball_shot_fouls(result, state), PENALTY_VISITS)
+    fouls = blackball_shot_fouls(result, state)
+    in_hand = InHand.BAULK if Foul.SCRATCH in fouls else InHand.NONE
+    return judge_turn(result, state, fouls, PENALTY_VISITS, in_hand)

@@ -7,7 +7,7 @@ A turn is judged from the :class:`~pix2pockets.state.ShotResult` and the shooter
   the first object ball pocketed on a legal shot assigns the group;
 * group assigned: the first contact must be an own ball, or the 8 once the group is cleared;
 * after contact a ball must be pocketed or some ball must touch a cushion;
-* the cue ball must not drop (scratch); any foul gives the opponent ball in hand;
+* the cue ball must not drop (scratch); any foul gives the opponent ball in hand anywhere on the table;
 * pocketing the 8 wins only when the group was cleared **before** the shot and the shot is foul-free;
   otherwise (early 8, or 8 on a foul) the shooter loses - even if the last own ball drops on the same
   shot;
@@ -31,6 +31,14 @@ class Foul(StrEnum):
     NO_RAIL_AFTER_CONTACT = "no_rail_after_contact"
     SCRATCH = "scratch"
     OPPONENT_POTTED = "opponent_potted"  # blackball rules only
+
+
+class InHand(StrEnum):
+    """Where the incoming player may place the cue ball after a foul."""
+
+    NONE = "none"  # nowhere: the cue ball is played from where it lies
+    TABLE = "table"  # anywhere free on the table
+    BAULK = "baulk"  # anywhere free behind the baulk line (blackball, after the cue ball dropped)
 
 
 class Outcome(StrEnum):
@@ -63,6 +71,8 @@ class TurnResult:
         legal_pots: indices (into the initial layout) of own balls legally pocketed.
         penalty_visits: after a foul, the visits the opponent gets (1: ball in hand under 8-ball rules; 2 under
             blackball rules); 0 otherwise.
+        in_hand: after a foul, where the opponent may place the cue ball (anywhere under 8-ball rules; under
+            blackball rules behind the baulk line when the cue ball dropped, else nowhere).
     """
 
     outcome: Outcome
@@ -70,11 +80,12 @@ class TurnResult:
     fouls: tuple[Foul, ...]
     legal_pots: tuple[int, ...]
     penalty_visits: int = 0
+    in_hand: InHand = InHand.NONE
 
     @property
     def ball_in_hand(self) -> bool:
-        """Whether the opponent gets ball in hand."""
-        return self.outcome is Outcome.FOUL
+        """Whether the opponent places the cue ball (:attr:`in_hand` names where)."""
+        return self.outcome is Outcome.FOUL and self.in_hand is not InHand.NONE
 
     @property
     def shot_succeeded(self) -> bool:
@@ -147,14 +158,20 @@ def assigned_group(result: ShotResult, state: GameState) -> Group | None:
     return None
 
 
-def judge_turn(result: ShotResult, state: GameState, fouls: tuple[Foul, ...], penalty_visits: int) -> TurnResult:
-    """Win, loss, foul, continue or end of turn, given the shot's ``fouls`` under a game's rules and the visits a
-    foul gives the opponent."""
+def judge_turn(
+    result: ShotResult,
+    state: GameState,
+    fouls: tuple[Foul, ...],
+    penalty_visits: int,
+    in_hand: InHand = InHand.TABLE,
+) -> TurnResult:
+    """Win, loss, foul, continue or end of turn, given the shot's ``fouls`` under a game's rules, the visits a foul
+    gives the opponent and where they may place the cue ball."""
     if black_pocketed(result):
         won = not fouls and group_cleared(result.initial, state.group)
         return TurnResult(Outcome.WIN if won else Outcome.LOSS, state.group, fouls, ())
     if fouls:
-        return TurnResult(Outcome.FOUL, state.group, fouls, (), penalty_visits=penalty_visits)
+        return TurnResult(Outcome.FOUL, state.group, fouls, (), penalty_visits=penalty_visits, in_hand=in_hand)
     group = assigned_group(result, state)
     pots = tuple(i for i in result.pocketed if group is not None and result.initial.balls[i].group is group)
     outcome = Outcome.CONTINUE if pots else Outcome.END_TURN
