@@ -3,8 +3,8 @@
 Game ``i`` starts from layout ``i`` of the ``evaluate planner`` protocol (16 balls at random spots, an open table) on
 the set's table (``--set american``: 9-foot, 8-ball rules; ``blackball``: UK 7-foot, WEPF rules, two visits after a
 foul), every stroke executed with the ``--skill`` noise; the players take turns to start (A starts the even games).
-Ball in hand after a foul goes to the free spot the player's planner likes best
-(:func:`pix2pockets.planner.game.place_cue_ball`).
+Ball in hand after a foul (8-ball: anywhere; WEPF: behind the baulk line, only when the cue ball dropped) goes to the
+free spot the player's planner likes best (:func:`pix2pockets.planner.game.place_cue_ball`).
 
 Usage:
     OMP_NUM_THREADS=1 PYTHONPATH=src python benchmarks/games.py [--a search] [--b oracle] [--set blackball]
