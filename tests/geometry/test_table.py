@@ -139,3 +139,9 @@ def test_uk_tables_follow_the_wepf_sizes():
     assert (uk7.length, uk7.width) == pytest.approx((84 * INCH, 42 * INCH))
     assert (uk6.length, uk6.width) == pytest.approx((72 * INCH, 36 * INCH))
     assert uk7.corner_mouth < TableSpec().corner_mouth  # small pockets for small balls
+
+
+def test_the_baulk_line_lies_a_fifth_of_the_length_from_the_head_cushion():
+    spec = table_preset("uk7")
+    assert spec.baulk_line_x == pytest.approx(84 * INCH / 5)
+    assert spec.contains(np.array([spec.baulk_line_x, spec.width / 2]))
