@@ -157,7 +157,9 @@ def play_game(
             fouls[player] += 1
             player, owed = 1 - player, judged.penalty_visits
             cue = layout.cue_index
-            in_hand = judged.in_hand if judged.in_hand is not InHand.NONE or cue is not None else InHand.BAULK
+            in_hand = judged.in_hand
+            if cue is None and in_hand is InHand.NONE:  # dropped, on a judge that names no area: anywhere
+                in_hand = InHand.TABLE
             if cue is not None and judged.ball_in_hand:  # the incoming player picks it up to place it
                 layout = layout.without([cue])
             continue

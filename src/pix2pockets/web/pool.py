@@ -85,7 +85,8 @@ class ThreadWorker:
 
 
 class ProcessWorker:
-    """A worker in a spawned process of its own: no threads or ONNX Runtime sessions shared with the server."""
+    """A worker that runs jobs in its own process (started by spawn) with its own models: it shares no threads or
+    ONNX Runtime sessions with the server."""
 
     def __init__(self, spec: EngineSpec, index: int, job_timeout: float) -> None:
         self.spec = spec

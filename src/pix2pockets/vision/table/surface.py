@@ -198,15 +198,10 @@ def surface_agreement(cues: TableCues, quad_px: np.ndarray) -> float:
     return float((cues.surface[inside > 0] - 0.5).sum())
 
 
-def _balls_inside(quad_px: np.ndarray, ball_centres_px: np.ndarray) -> int:
+def _inside(quad_px: np.ndarray, points_px: np.ndarray) -> np.ndarray:
+    """Which points (n, 2) [px] lie inside or on the quadrilateral ``quad_px`` (4, 2) [px]."""
     contour = np.asarray(quad_px, dtype=np.float32).reshape(-1, 1, 2)
-    return sum(cv2.pointPolygonTest(contour, (float(x), float(y)), False) >= 0 for x, y in ball_centres_px)
-
-
-def _convex(quad: np.ndarray) -> bool:
-    edges = np.roll(quad, -1, axis=0) - quad
-    turns = edges[:, 0] * np.roll(edges, -1, axis=0)[:, 1] - edges[:, 1] * np.roll(edges, -1, axis=0)[:, 0]
-    return bool(np.all(turns > 0) or np.all(turns < 0))
+    return np.array([cv2.pointPolygonTest(contour, (float(x), float(y)), False) >= 0 for x, y in points_px], dtype=bool)
 
 
 def peak_quad(cues: TableCues, ball_centres_px: np.ndarray, ball_cost: float = 0.0) -> tuple[np.ndarray, float] | None:
@@ -220,9 +215,9 @@ def peak_quad(cues: TableCues, ball_centres_px: np.ndarray, ball_cost: float = 0
         quad = peaks_px[list(idx)]
         centre = quad.mean(axis=0)
         quad = quad[np.argsort(np.arctan2(quad[:, 1] - centre[1], quad[:, 0] - centre[0]))]
-        if not _convex(quad):
+        if not cv2.isContourConvex(quad.astype(np.float32).reshape(-1, 1, 2)):
             continue
-        left_out = len(ball_centres_px) - _balls_inside(quad, ball_centres_px)
+        left_out = int((~_inside(quad, ball_centres_px)).sum())
         score = surface_agreement(cues, quad) - ball_cost * left_out
         if best is None or score > best[1]:
             best = (quad, score)
@@ -308,7 +303,7 @@ def surface_outline(
     corners, from_peak = _snap_to_peaks(corners, cues)
     if np.all(np.isfinite(corners)):  # the corner peaks' own outline, where it fits the surface better
         region_agreement = surface_agreement(cues, corners)
-        held = balls[[_balls_inside(corners, balls[i : i + 1]) > 0 for i in range(len(balls))]]
+        held = balls[_inside(corners, balls)]
         peaks_only = peak_quad(cues, held, PEAK_QUAD_BALL_COST * abs(region_agreement))
         if peaks_only is not None and peaks_only[1] > region_agreement + PEAK_QUAD_GAIN * abs(region_agreement):
             corners, seen, from_peak = peaks_only[0], np.ones(4, dtype=bool), np.ones(4, dtype=bool)
