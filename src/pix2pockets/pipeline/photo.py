@@ -31,7 +31,7 @@ from pix2pockets.vision.stages.ball_classifier import NUMBER_PROBS
 from pix2pockets.vision.stages.ball_colours import BALL_COLOUR, RED, YELLOW, blackball_classes, read_ball_set
 from pix2pockets.vision.stages.ball_numbers import BallNumberReader, assign_numbers
 from pix2pockets.vision.table.errors import TableFitError
-from pix2pockets.vision.table.estimate import estimate_table
+from pix2pockets.vision.table.estimate import estimate_table, outline_used
 from pix2pockets.vision.table.fit import TableFit
 from pix2pockets.vision.table.keypoints import TableModel
 from pix2pockets.vision.table.rail_height import refine_fit_height
@@ -162,6 +162,8 @@ def fit_evidence(fit: TableFit, surface: SurfaceOutline | None) -> dict[str, int
     """The cues behind a table fit: diamonds matched, and the table model's corners, side pockets and cushion
     lines when the fit used its surface, with the sides moved onto the cloth's edge in the photo."""
     used = surface is not None and "surface" in fit.source
+    if used:
+        surface = outline_used(fit, surface)
     return {
         "diamonds": int(fit.n_matched),
         "corners": int(surface.from_peak.sum()) if used else 0,

@@ -1,10 +1,12 @@
-"""One table estimate over every cue: the bundled example render, drawn photos, analytic views, no table."""
+"""One table estimate over every cue: the bundled example render, drawn photos, analytic views, model outlines, no
+table."""
 
 from __future__ import annotations
 
 import json
 from pathlib import Path
 
+import cv2
 import numpy as np
 import pytest
 
@@ -16,7 +18,8 @@ from pix2pockets.vision.detect.analytic import analytic_detections, detections_f
 from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.locate.balls import locate_balls
 from pix2pockets.vision.table.errors import TableFitError
-from pix2pockets.vision.table.estimate import estimate_table
+from pix2pockets.vision.table.estimate import estimate_table, outline_used, surface_overlap
+from pix2pockets.vision.table.surface import SurfaceOutline
 from tests.vision.table.test_cloth import BALLS, draw_table_photo, view
 
 LABELS = json.loads(Path(example_labels_path()).read_text())
@@ -89,3 +92,48 @@ def test_no_table_says_what_is_missing():
     img[:] = (200, 190, 170)  # a bare wall
     with pytest.raises(TableFitError, match=r"^no table found: diamonds: .*; cloth: .*show the whole table"):
         estimate_table(img, Detections.empty())
+
+
+def outline_of(corners: np.ndarray, size: tuple[int, int], alternative: SurfaceOutline | None = None) -> SurfaceOutline:
+    """A surface outline with these corners (4, 2) [px], all sides seen, its region the quadrilateral itself."""
+    mask = np.zeros((size[1], size[0]), np.uint8)
+    cv2.fillPoly(mask, [np.round(corners).astype(np.int32)], 1)
+    ones = np.ones(4, dtype=bool)
+    return SurfaceOutline(corners, ones, ones, np.zeros(4), mask.astype(bool), 0.9, alternative)
+
+
+def test_the_corner_peaks_outline_fits_where_the_regions_cannot():
+    """A region leaking onto a player gives a quadrilateral no camera sees a table as; the corner peaks' own outline,
+    kept as the second hypothesis, gives the table."""
+    spec = TableSpec()
+    camera = view("oblique")
+    truth = camera.project_table(spec.corners, 0.0)
+    leaked = truth.copy()
+    leaked[1] += 0.8 * (truth[1] - truth[0])  # one corner dragged far along its side
+    det = Detections.empty()
+    size = camera.image_size
+    with pytest.raises(TableFitError):
+        estimate_table(None, det, size, spec, cues="surface", surface=outline_of(leaked, size))
+    surface = outline_of(leaked, size, alternative=outline_of(truth, size))
+    fit = estimate_table(None, det, size, spec, cues="surface", surface=surface)
+    assert min(np.abs(np.roll(fit.corners_px, k, axis=0) - truth).max() for k in (0, 2)) < 2.0
+    assert outline_used(fit, surface) is surface.alternative
+    alone = outline_of(truth, size)
+    assert outline_used(fit, alone) is alone
+
+
+def test_a_diamond_fit_far_off_the_surface_loses_to_the_surface():
+    """Diamonds that fit a table where the model sees no cloth (false diamonds: a rack triangle, balls in a row) lose
+    to the surface's table, though they are more cues than its four corners."""
+    spec = TableSpec()
+    camera = view("oblique")
+    size = camera.image_size
+    layout = TableLayout((Ball.numbered(0), Ball.numbered(3)), BALLS[:2], spec)
+    det = analytic_detections(standard_views(spec, size)["45"], layout)  # the diamonds' (wrong) table
+    truth = camera.project_table(spec.corners, 0.0)
+    surface = outline_of(truth, size)
+    assert estimate_table(None, det, size, spec, cues="diamonds").source == "diamonds"
+    fit = estimate_table(None, det, size, spec, surface=surface)
+    assert fit.source == "surface"
+    assert min(np.abs(np.roll(fit.corners_px, k, axis=0) - truth).max() for k in (0, 2)) < 2.0
+    assert surface_overlap(fit, surface.mask) > 0.95

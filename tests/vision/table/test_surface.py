@@ -139,3 +139,19 @@ def test_surface_agreement_counts_cloth_in_and_penalises_what_is_not():
     grown = TABLE + 60.0 * np.sign(TABLE - TABLE.mean(axis=0))
     assert surface_agreement(cues, TABLE) > surface_agreement(cues, grown)
     assert surface_agreement(cues, TABLE) > surface_agreement(cues, 0.5 * (TABLE + TABLE.mean(axis=0))) > 0
+
+
+def test_four_peaks_that_lose_to_the_region_stay_as_the_alternative():
+    """Surface joined to the table along a whole side (a player's shirt of the cloth's colour) outscores the four
+    peaks, so the region's outline stays first and the peaks' outline is kept as the second hypothesis."""
+    shirt = np.array([[200.0, 120.0], [520.0, 115.0], [520.0, 228.0], [200.0, 232.0]])
+    outline = surface_outline(cues_with_peaks([TABLE, shirt], TABLE), np.array([[360.0, 300.0]]))
+    assert outline.corners_px[:, 1].min() < 150.0  # the region's outline takes in the shirt
+    assert outline.alternative is not None and outline.alternative.from_peak.all()
+    order = [int(np.argmin(np.linalg.norm(TABLE - c, axis=1))) for c in outline.alternative.corners_px]
+    assert np.allclose(outline.alternative.corners_px, TABLE[order])
+
+
+def test_peaks_on_the_regions_outline_give_no_alternative():
+    outline = surface_outline(cues_with_peaks([TABLE], TABLE), np.array([[360.0, 300.0]]))
+    assert outline.alternative is None

@@ -2,10 +2,12 @@
 
 The table model's playing surface (:mod:`pix2pockets.vision.table.keypoints`, outlined by
 :func:`~pix2pockets.vision.table.surface.surface_outline`: corners read to about a pixel, side pockets marking the
-long rails) gives a fit of its own, at the cushion noses on the cloth, which is then moved onto the cloth's edge in
-the photo (:func:`~pix2pockets.vision.table.cloth_edge.snap_fit`); where the diamond fit agrees with it (its
-corners within :data:`CORNER_TOLERANCE`), the diamond fit is kept (``"diamonds+surface"``), else the surface's
-(``"surface"``).
+long rails) gives a fit of its own, at the cushion noses on the cloth (from the corner peaks' outline, its
+``alternative``, where the region's outline gives none), which is then moved onto the cloth's edge in the photo
+(:func:`~pix2pockets.vision.table.cloth_edge.snap_fit`). Where the diamond fit agrees with it (its corners within
+:data:`CORNER_TOLERANCE`), the diamond fit is kept (``"diamonds+surface"``). Where they disagree, a diamond fit whose
+playing surface overlaps the model's surface region far less (:data:`SURFACE_OVERLAP_MARGIN`) loses, else the fit that
+explains more diamonds and balls wins (``"diamonds"`` or ``"surface"``).
 
 Without a surface, :func:`estimate_table` fits the table from the diamonds
 (:func:`~pix2pockets.vision.table.fit.fit_table`, the rail sights) and from the cloth
@@ -27,6 +29,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
+import cv2
 import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
@@ -38,6 +41,7 @@ from pix2pockets.vision.table.fit import TableFit, diamond_height, fit_table
 from pix2pockets.vision.table.outline_camera import CUSHION_WIDTH, outline_rectangle
 from pix2pockets.vision.table.outline_fit import fit_outline
 from pix2pockets.vision.table.pixel_aspect import pixel_aspect_of_balls, pixel_aspect_of_photo, snapped_aspect
+from pix2pockets.vision.table.quad_geometry import corner_gap
 from pix2pockets.vision.table.surface import SurfaceOutline
 
 CUES = ("diamonds", "cloth", "surface", "all")
@@ -45,6 +49,9 @@ CUES = ("diamonds", "cloth", "surface", "all")
 MIN_BALL_SCORE = 0.3  # balls at least this sure seed the cloth colour and measure the table
 CORNER_TOLERANCE = 0.03
 """A fit lands on a cloth corner within this fraction of the image diagonal."""
+SURFACE_OVERLAP_MARGIN = 0.25
+"""A diamond fit that disagrees with the surface's loses when its playing surface overlaps the model's surface region
+(intersection over union) by this much less than the surface fit's does."""
 DIAMOND_TOLERANCE = 0.01
 """A fit explains a diamond within this fraction of the image diagonal."""
 MIN_BALLS = 2
@@ -167,34 +174,42 @@ def estimate_table(
             reasons.append(f"diamonds: {_reason(err)}")
     surface_fit: TableFit | None = None
     if cues in ("surface", "all") and surface is not None:
-        try:
-            surface_fit = replace(
-                fit_outline(
-                    surface.corners_px,
-                    image_size,
-                    spec,
-                    seen=surface.seen,
-                    ball_boxes=sure.boxes,
-                    diamonds=diamonds,
-                    pocket_darkness=SIDE_POCKET_DARKNESS * surface.side_pocket,
-                    cloth_mask=surface.mask,
-                    pixel_aspect=outline_aspect,
-                    offset=0.0,
-                    plane_z=0.0,
-                    max_rectangle_cost=SURFACE_MAX_RECTANGLE_COST,
-                    base=base,
-                ),
-                source="surface",
-            )
-        except TableFitError as err:
-            reasons.append(f"surface: {_reason(err)}")
+        for outline in (surface, surface.alternative):  # the region's outline, else the corner peaks' own
+            if outline is None:
+                continue
+            try:
+                surface_fit = replace(
+                    fit_outline(
+                        outline.corners_px,
+                        image_size,
+                        spec,
+                        seen=outline.seen,
+                        ball_boxes=sure.boxes,
+                        diamonds=diamonds,
+                        pocket_darkness=SIDE_POCKET_DARKNESS * outline.side_pocket,
+                        cloth_mask=outline.mask,
+                        pixel_aspect=outline_aspect,
+                        offset=0.0,
+                        plane_z=0.0,
+                        max_rectangle_cost=SURFACE_MAX_RECTANGLE_COST,
+                        base=base,
+                    ),
+                    source="surface",
+                )
+                break
+            except TableFitError as err:
+                if outline is surface:
+                    reasons.append(f"surface: {_reason(err)}")
         if surface_fit is not None and rgb is not None:  # onto the cloth's edge in the photo, sharper than the model
             surface_fit = snap_fit(rgb, surface_fit, surface.mask, sure.boxes)
     if surface_fit is not None:
         for fit in fits:  # a diamond fit on the surface's corners is the sharper of the two
-            if _corner_gap(fit, surface_fit) <= CORNER_TOLERANCE * math.hypot(*image_size):
+            if corner_gap(fit.corners_px, surface_fit.corners_px) <= CORNER_TOLERANCE * math.hypot(*image_size):
                 return replace(fit, source="diamonds+surface")
-            # they disagree: the one explaining more diamonds and balls (ties to the diamonds)
+            # they disagree: a diamond fit far off the model's surface is taken from false diamonds (a rack
+            # triangle, balls in a row); else the one explaining more diamonds and balls (ties to the diamonds)
+            if surface_overlap(fit, surface.mask) + SURFACE_OVERLAP_MARGIN < surface_overlap(surface_fit, surface.mask):
+                continue
             centres = sure.centres
             if (
                 explained_cues(fit, diamonds, None, centres).total
@@ -246,11 +261,27 @@ def estimate_table(
     return diamond_fit if scores[0].total >= scores[1].total else cloth_fit
 
 
-def _corner_gap(a: TableFit, b: TableFit) -> float:
-    """Largest distance [px] between the playing-surface corners of two fits (either way round the table)."""
-    ca, cb = a.corners_px, b.corners_px
-    gaps = [np.max(np.linalg.norm(ca - np.roll(cb, k, axis=0), axis=1)) for k in (0, 2)]
-    return float(np.nanmin(gaps)) if np.all(np.isfinite(gaps)) else math.inf
+def surface_overlap(fit: TableFit, mask: np.ndarray) -> float:
+    """Intersection over union of a fit's playing surface in the photo with a surface region ``mask`` (H, W) bool;
+    0 for a surface behind the camera."""
+    corners = fit.corners_px
+    if not np.all(np.isfinite(corners)) or np.any(np.abs(corners) > 1e6):
+        return 0.0
+    area = np.zeros(mask.shape, dtype=np.uint8)
+    cv2.fillPoly(area, [np.round(corners).astype(np.int32)], 1)
+    inside = area.astype(bool)
+    union = int((inside | mask).sum())
+    return int((inside & mask).sum()) / union if union else 0.0
+
+
+def outline_used(fit: TableFit, surface: SurfaceOutline) -> SurfaceOutline:
+    """Of a surface's outline and its :attr:`~SurfaceOutline.alternative`, the one a surface fit came from (the one
+    nearer its corners)."""
+    alternative = surface.alternative
+    if alternative is None:
+        return surface
+    gap = corner_gap(fit.corners_px, alternative.corners_px)
+    return alternative if gap < corner_gap(fit.corners_px, surface.corners_px) else surface
 
 
 def _reason(err: TableFitError) -> str:

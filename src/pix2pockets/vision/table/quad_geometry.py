@@ -148,3 +148,11 @@ def side_midpoint(quad: np.ndarray, k: int) -> np.ndarray:
     if abs(p[2]) < 1e-12:
         return (quad[k] + quad[(k + 1) % 4]) / 2
     return p[:2] / p[2]
+
+
+def corner_gap(a: np.ndarray, b: np.ndarray) -> float:
+    """Largest distance [px] between the corners of two quadrilaterals (4, 2), matched round either way from any
+    corner; inf when a corner is not finite."""
+    if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
+        return float("inf")
+    return min(float(np.max(np.linalg.norm(a - np.roll(o, k, axis=0), axis=1))) for o in (b, b[::-1]) for k in range(4))

@@ -23,14 +23,14 @@ Example:
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import cv2
 import numpy as np
 
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.keypoints import TableCues, cell_of_pixel, pixel_of_cell
-from pix2pockets.vision.table.quad_geometry import enclosing_quad, robust_line, tls_fit
+from pix2pockets.vision.table.quad_geometry import corner_gap, enclosing_quad, quad_length, robust_line, tls_fit
 
 SURFACE_THRESHOLD = 0.5
 UPSAMPLE = 4
@@ -60,6 +60,9 @@ pixels off a corner the region's edge reads well must not win by a hair) ..."""
 PEAK_QUAD_BALL_COST = 0.02
 """... counting against it this share of the region's agreement for each ball inside the region's outline that it
 leaves out (a ball is no proof: ball returns and players' hands hold balls too)."""
+ALTERNATIVE_GAP = 0.03
+"""A four-peak outline that lost is kept as a second hypothesis when a corner lies this share of the table's length
+away from the region's outline (closer, it would give the same fit)."""
 SIDE_POCKET_REACH = 0.2
 """A side-pocket peak counts for a side when it lies within this share of the side's length of its middle and
 within this share of the side's length of its line."""
@@ -77,6 +80,8 @@ class SurfaceOutline:
         side_pocket: (4,) the best side-pocket peak score near each side's middle (0: none).
         mask: (H, W) bool, the surface region at the photo's resolution.
         confidence: mean surface chance inside the region, times the share of the quadrilateral it fills.
+        alternative: the four corner peaks' own outline where it lost to the region's (a second hypothesis for a fit
+            the region's outline cannot give, e.g. a region that leaks onto a player's shirt), else None.
     """
 
     corners_px: np.ndarray
@@ -85,6 +90,7 @@ class SurfaceOutline:
     side_pocket: np.ndarray
     mask: np.ndarray
     confidence: float
+    alternative: SurfaceOutline | None = None
 
 
 def _table_region(surface: np.ndarray, threshold: float, marks: np.ndarray, min_cells: float) -> np.ndarray:
@@ -301,12 +307,30 @@ def surface_outline(
         if cut is not None and cut[1].sum() > seen.sum():
             corners, seen = _corners_of(cut[0]), cut[1]
     corners, from_peak = _snap_to_peaks(corners, cues)
+    alternative = None
     if np.all(np.isfinite(corners)):  # the corner peaks' own outline, where it fits the surface better
         region_agreement = surface_agreement(cues, corners)
         held = balls[_inside(corners, balls)]
         peaks_only = peak_quad(cues, held, PEAK_QUAD_BALL_COST * abs(region_agreement))
-        if peaks_only is not None and peaks_only[1] > region_agreement + PEAK_QUAD_GAIN * abs(region_agreement):
-            corners, seen, from_peak = peaks_only[0], np.ones(4, dtype=bool), np.ones(4, dtype=bool)
+        if peaks_only is not None:
+            all_peaks = np.ones(4, dtype=bool)
+            if peaks_only[1] > region_agreement + PEAK_QUAD_GAIN * abs(region_agreement):
+                corners, seen, from_peak = peaks_only[0], all_peaks, all_peaks
+            elif corner_gap(peaks_only[0], corners) > ALTERNATIVE_GAP * quad_length(corners):
+                alternative = (peaks_only[0], all_peaks, all_peaks)
+    mask = cv2.resize(region, (cues.surface.shape[1] * 4, cues.surface.shape[0] * 4), interpolation=cv2.INTER_NEAREST)
+    M = np.array([[1 / box.scale, 0, 0], [0, 1 / box.scale, 0]], dtype=np.float64)
+    mask = cv2.warpAffine(mask, M, (w, h), flags=cv2.INTER_NEAREST).astype(bool)
+    chance = float(cues.surface[region > 0].mean())
+    second = None if alternative is None else _outline(cues, *alternative, mask, chance)
+    return replace(_outline(cues, corners, seen, from_peak, mask, chance), alternative=second)
+
+
+def _outline(
+    cues: TableCues, corners: np.ndarray, seen: np.ndarray, from_peak: np.ndarray, mask: np.ndarray, chance: float
+) -> SurfaceOutline:
+    """The outline with these corners: its side pockets, and its confidence (``chance`` times the share of the
+    quadrilateral the surface ``mask`` fills)."""
     side_pocket = np.zeros(4)
     for k in range(4):
         a, b = corners[k], corners[(k + 1) % 4]
@@ -315,12 +339,9 @@ def surface_outline(
             off_middle = np.hypot(*(p - 0.5 * (a + b)))
             if off_middle <= SIDE_POCKET_REACH * length:
                 side_pocket[k] = max(side_pocket[k], float(score))
-    mask = cv2.resize(region, (cues.surface.shape[1] * 4, cues.surface.shape[0] * 4), interpolation=cv2.INTER_NEAREST)
-    M = np.array([[1 / box.scale, 0, 0], [0, 1 / box.scale, 0]], dtype=np.float64)
-    mask = cv2.warpAffine(mask, M, (w, h), flags=cv2.INTER_NEAREST).astype(bool)
+    h, w = mask.shape
     inside = np.zeros((h, w), dtype=np.uint8)
     if np.all(np.abs(corners) < 1e6):
         cv2.fillConvexPoly(inside, np.round(corners).astype(np.int32), 1)
     fill = float((mask & inside.astype(bool)).sum()) / max(float(inside.sum()), 1.0)
-    chance = float(cues.surface[region > 0].mean())
     return SurfaceOutline(corners, seen, from_peak, side_pocket, mask, chance * min(fill, 1.0))
