@@ -143,3 +143,42 @@ def test_a_view_from_above_gets_a_believable_focal_length():
     assert moved is not None and moved.K[1, 1] >= 0.45 * w
     assert corner_error(true_outline(moved), outline) < 1.0
     assert corner_error(moved.project_table(outline_rectangle(SPEC, 0.0), 0.0), cloth) < 8.0
+
+
+def banded_photo(
+    truth: np.ndarray, size: tuple[int, int], rail: tuple[int, int, int], shade: bool = False
+) -> np.ndarray:
+    """A dark table body, a rail band round the cloth outline ``truth`` (4, 2) [px], a light blue-grey cloth inside
+    it and, with ``shade``, the cloth in shadow along its edge (a cushion's dark face)."""
+    img = np.zeros((size[1], size[0], 3), np.uint8)
+    img[:] = (30, 24, 28)  # the table's dark body and the floor
+    cv2.fillPoly(img, [np.round(grown(truth, 1.035) - 0.5).astype(np.int32)], rail)
+    cv2.fillPoly(img, [np.round(truth - 0.5).astype(np.int32)], (150, 178, 196))
+    if shade:
+        cv2.fillPoly(img, [np.round(truth - 0.5).astype(np.int32)], (75, 89, 98))
+        cv2.fillPoly(img, [np.round(grown(truth, 0.975) - 0.5).astype(np.int32)], (150, 178, 196))
+    return img
+
+
+def test_a_light_rail_beside_a_light_cloth_is_not_taken_for_the_cloth():
+    """White laminate beside a light cloth differs less from the cloth than the dark body beyond it: the snap keeps
+    the innermost clear rise, the cloth's edge, not the steepest one, the rail's outer edge."""
+    camera = view("oblique")
+    truth = true_outline(camera)
+    img = banded_photo(truth, camera.image_size, rail=(230, 230, 235))
+    colour = cloth_colour(img, region(grown(truth, 0.9), camera.image_size))
+    start = grown(truth, 0.985)
+    assert corner_error(start, truth) > 3.0
+    snapped = snap_to_cloth_edge(img, start, colour, reach=16.0)
+    assert corner_error(snapped.corners_px, truth) < 1.5
+
+
+def test_the_cloth_in_shadow_inside_its_edge_does_not_pull_the_line_in():
+    camera = view("oblique")
+    truth = true_outline(camera)
+    img = banded_photo(truth, camera.image_size, rail=(120, 70, 40), shade=True)  # a wooden rail
+    colour = cloth_colour(img, region(grown(truth, 0.9), camera.image_size))
+    start = grown(truth, 0.97)  # inside the shadow, nearer its inner edge than the cloth's edge
+    assert corner_error(start, truth) > 3.0
+    snapped = snap_to_cloth_edge(img, start, colour, reach=16.0)
+    assert corner_error(snapped.corners_px, truth) < 1.5

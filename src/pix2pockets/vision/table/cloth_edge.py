@@ -6,6 +6,11 @@ around a table. :func:`snap_to_cloth_edge` searches each side of an outline alon
 away from the cloth's colour, fits a robust line to the edge points and keeps the new line only where it separates
 cloth from non-cloth better than the old one (a player's arm, a ball or the rail's outer edge do not).
 
+A light rail beside a light cloth (white laminate, silver trim) differs less from the cloth than the dark floor or
+table body beyond it, so the steepest change can be the rail's outer edge. Each profile's innermost clear rise, where
+the colour leaves the cloth for one that is not the cloth in shadow (a cushion's dark face), gives a second line; of
+the two, the one nearer the side as it was is kept.
+
 Example:
     >>> colour = cloth_colour(rgb, surface.mask, ball_boxes)  # doctest: +SKIP
     >>> snapped = snap_to_cloth_edge(rgb, outline_px, colour, reach=12.0)  # doctest: +SKIP
@@ -39,6 +44,14 @@ MIN_INLIER_SHARE = 0.35
 """Share of a side's profiles whose edge must lie on the new line."""
 MAX_TURN_DEG = 12.0
 """Largest turn of a side [deg] (the table model's cushion lines can be this far off a near corner)."""
+INNER_RISE_SHARE = 0.3
+"""A rise of the colour distance along a profile counts for the innermost-rise line when it reaches this share of the
+profile's steepest rise ..."""
+OFF_CLOTH = 1.5
+"""... and the colour two samples past it lies this far from the cloth's (colour-distance units) ..."""
+SHADOW_HUE_DEG = 30.0
+"""... and is not the cloth in shadow: darker than the cloth with its hue within this many degrees, or darker and
+greyer (less than half its chroma)."""
 CONTRAST_STEP = 1.5
 """Contrast across a line is read this many pixels either side of it."""
 MIN_GAIN = 0.15
@@ -117,6 +130,51 @@ def line_contrast(rgb: np.ndarray, line: np.ndarray, a: np.ndarray, b: np.ndarra
     return float(np.median(diff)) if len(diff) >= SAMPLES // 4 else -math.inf
 
 
+def _edge_line(points: np.ndarray, line: np.ndarray) -> np.ndarray | None:
+    """A robust line through edge points (n, 2), its normal the way of ``line``'s; None unless enough profiles lie on
+    it (:data:`MIN_INLIER_SHARE`) and it turns less than :data:`MAX_TURN_DEG` from ``line``."""
+    fitted = robust_line(points, 1.5)
+    if fitted is None:
+        return None
+    new, inliers = fitted
+    if inliers.sum() < MIN_INLIER_SHARE * SAMPLES or abs(new[:2] @ line[:2]) < math.cos(math.radians(MAX_TURN_DEG)):
+        return None
+    return new if new[:2] @ line[:2] > 0 else -new
+
+
+def _innermost_rises(
+    rgb: np.ndarray, profiles: np.ndarray, dist: np.ndarray, grad: np.ndarray, colour: np.ndarray
+) -> np.ndarray:
+    """Each profile's innermost clear rise away from the cloth (see the module docstring): the profiles' points
+    (n, m, 2) [pixel indices], their colour distances (n, m) and its rises (n, m - 1); returns the rises' points
+    (k, 2) [pixel indices]."""
+    flat = profiles.reshape(-1, 1, 2).astype(np.float32)
+    samples = cv2.remap(rgb, flat[..., 0], flat[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    lab = lab_of(samples).reshape(*profiles.shape[:2], 3)
+    chroma = math.hypot(float(colour[1]), float(colour[2]))
+    hue = math.atan2(float(colour[2]), float(colour[1]))
+    m = dist.shape[1]
+    peak = np.zeros_like(grad, dtype=bool)  # local maxima of the rise
+    peak[:, 1:-1] = (grad[:, 1:-1] >= grad[:, :-2]) & (grad[:, 1:-1] >= grad[:, 2:])
+    peak[:, 0], peak[:, -1] = grad[:, 0] >= grad[:, 1], grad[:, -1] >= grad[:, -2]
+    rises = peak & (grad >= INNER_RISE_SHARE * grad.max(axis=1, keepdims=True))
+    past = np.minimum(np.arange(grad.shape[1]) + 2, m - 1)
+    rises &= dist[:, past] >= OFF_CLOTH
+    beyond = lab[:, past]
+    darker = beyond[..., 0] < colour[0]
+    their_chroma = np.hypot(beyond[..., 1], beyond[..., 2])
+    turn = np.abs((np.arctan2(beyond[..., 2], beyond[..., 1]) - hue + math.pi) % (2 * math.pi) - math.pi)
+    if chroma < 8.0:
+        shadow = darker
+    else:
+        shadow = darker & ((their_chroma < 0.5 * chroma) | (turn < math.radians(SHADOW_HUE_DEG)))
+    rises &= ~shadow
+    found = rises.any(axis=1)
+    first = np.argmax(rises, axis=1)[found]
+    rows = np.flatnonzero(found)
+    return profiles[rows, first] + 0.5 * (profiles[rows, first + 1] - profiles[rows, first])
+
+
 def snap_to_cloth_edge(
     rgb: np.ndarray, corners_px: np.ndarray, colour: np.ndarray, reach: float, sides: np.ndarray | None = None
 ) -> SnappedOutline:
@@ -163,14 +221,16 @@ def snap_to_cloth_edge(
         j = np.argmax(grad, axis=1)
         rows = np.arange(len(j))
         strong = grad[rows, j] > 0.25
-        edge = pts[usable][rows, j] + 0.5 * (pts[usable][rows, j + 1] - pts[usable][rows, j])
-        fitted = robust_line(edge[strong], 1.5)
-        if fitted is None:
+        profiles = pts[usable]
+        edge = profiles[rows, j] + 0.5 * (profiles[rows, j + 1] - profiles[rows, j])
+        new = _edge_line(edge[strong], line)
+        if new is None:
             continue
-        new, inliers = fitted
-        if inliers.sum() < MIN_INLIER_SHARE * SAMPLES or abs(new[:2] @ line[:2]) < math.cos(math.radians(MAX_TURN_DEG)):
-            continue
-        new = new if new[:2] @ line[:2] > 0 else -new
+        inner = _innermost_rises(rgb, profiles[strong], dist[strong], grad[strong], colour)
+        inner_line = _edge_line(inner, line) if len(inner) else None
+        middle = 0.5 * (a + b)
+        if inner_line is not None and abs(middle @ inner_line[:2] + inner_line[2]) < abs(middle @ new[:2] + new[2]):
+            new = inner_line
         gained = line_contrast(rgb, new, a, b, colour)
         if gained >= contrast[k] + MIN_GAIN:
             new_lines[k], moved[k], contrast[k] = new, True, gained
