@@ -164,6 +164,22 @@ def estimate_table(
     # stretches itself (a four-cornered outline shows the stretch a squashed photo has)
     outline_aspect = aspect if aspect != 1.0 else None
 
+    def outline_fit(corners, seen, darkness, mask, **options) -> TableFit:
+        """The table seen through an outline's corners, with the photo's balls, diamonds and pixel stretch."""
+        return fit_outline(
+            corners,
+            image_size,
+            spec,
+            seen=seen,
+            ball_boxes=sure.boxes,
+            diamonds=diamonds,
+            pocket_darkness=darkness,
+            cloth_mask=mask,
+            pixel_aspect=outline_aspect,
+            base=base,
+            **options,
+        )
+
     fits: list[TableFit] = []
     reasons: list[str] = []
     if cues in ("diamonds", "all"):
@@ -178,23 +194,10 @@ def estimate_table(
             if outline is None:
                 continue
             try:
+                darkness = SIDE_POCKET_DARKNESS * outline.side_pocket
+                at_noses = {"offset": 0.0, "plane_z": 0.0, "max_rectangle_cost": SURFACE_MAX_RECTANGLE_COST}
                 surface_fit = replace(
-                    fit_outline(
-                        outline.corners_px,
-                        image_size,
-                        spec,
-                        seen=outline.seen,
-                        ball_boxes=sure.boxes,
-                        diamonds=diamonds,
-                        pocket_darkness=SIDE_POCKET_DARKNESS * outline.side_pocket,
-                        cloth_mask=outline.mask,
-                        pixel_aspect=outline_aspect,
-                        offset=0.0,
-                        plane_z=0.0,
-                        max_rectangle_cost=SURFACE_MAX_RECTANGLE_COST,
-                        base=base,
-                    ),
-                    source="surface",
+                    outline_fit(outline.corners_px, outline.seen, darkness, outline.mask, **at_noses), source="surface"
                 )
                 break
             except TableFitError as err:
@@ -223,18 +226,7 @@ def estimate_table(
     if cues in ("cloth", "all") and rgb is not None:
         try:
             cloth = find_cloth(rgb, sure.boxes)
-            fit = fit_outline(
-                cloth.corners_px,
-                image_size,
-                spec,
-                seen=cloth.seen,
-                ball_boxes=sure.boxes,
-                diamonds=diamonds,
-                pocket_darkness=cloth.pocket_darkness,
-                cloth_mask=cloth.mask,
-                pixel_aspect=outline_aspect,
-                base=base,
-            )
+            fit = outline_fit(cloth.corners_px, cloth.seen, cloth.pocket_darkness, cloth.mask)
             on_table = explained_cues(fit, np.zeros((0, 2)), None, sure.centres).balls
             if on_table < MIN_BALLS and not (cloth.seen.all() and cloth.confidence >= MIN_CONFIDENCE_WITHOUT_BALLS):
                 raise TableFitError(
