@@ -164,7 +164,9 @@ def estimate_table(
     # stretches itself (a four-cornered outline shows the stretch a squashed photo has)
     outline_aspect = aspect if aspect != 1.0 else None
 
-    def outline_fit(corners, seen, darkness, mask, **options) -> TableFit:
+    def outline_fit(
+        corners: np.ndarray, seen: np.ndarray, darkness: np.ndarray, mask: np.ndarray, **options: float
+    ) -> TableFit:
         """The table seen through an outline's corners, with the photo's balls, diamonds and pixel stretch."""
         return fit_outline(
             corners,
