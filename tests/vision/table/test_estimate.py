@@ -4,6 +4,7 @@ table."""
 from __future__ import annotations
 
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import cv2
@@ -137,3 +138,21 @@ def test_a_diamond_fit_far_off_the_surface_loses_to_the_surface():
     assert fit.source == "surface"
     assert min(np.abs(np.roll(fit.corners_px, k, axis=0) - truth).max() for k in (0, 2)) < 2.0
     assert surface_overlap(fit, surface.mask) > 0.95
+
+
+def test_a_top_view_with_the_models_corners_and_side_pockets_needs_no_balls():
+    """A rectangle seen from straight above needs balls on it to be taken for a table (a window or a picture looks the
+    same), unless the table model finds its four corners and both side pockets."""
+    spec = TableSpec()
+    camera = standard_views(spec)["top"]
+    size = camera.image_size
+    truth = camera.project_table(spec.corners, 0.0)
+    plain = outline_of(truth, size)
+    with pytest.raises(TableFitError, match="view from straight above needs 3 balls"):
+        estimate_table(None, Detections.empty(), size, spec, cues="surface", surface=plain)
+    pocketed = replace(plain, side_pocket=np.array([0.9, 0.0, 0.9, 0.0]))
+    fit = estimate_table(None, Detections.empty(), size, spec, cues="surface", surface=pocketed)
+    assert min(np.abs(np.roll(fit.corners_px, k, axis=0) - truth).max() for k in (0, 2)) < 2.0
+    one_pocket = replace(plain, side_pocket=np.array([0.9, 0.0, 0.0, 0.0]))
+    with pytest.raises(TableFitError, match="view from straight above"):
+        estimate_table(None, Detections.empty(), size, spec, cues="surface", surface=one_pocket)

@@ -49,6 +49,8 @@ CUES = ("diamonds", "cloth", "surface", "all")
 MIN_BALL_SCORE = 0.3  # balls at least this sure seed the cloth colour and measure the table
 CORNER_TOLERANCE = 0.03
 """A fit lands on a cloth corner within this fraction of the image diagonal."""
+SURE_SIDE_POCKET = 0.5
+"""Side-pocket peak score that counts as a side pocket seen (:func:`shows_a_table`)."""
 SURFACE_OVERLAP_MARGIN = 0.25
 """A diamond fit that disagrees with the surface's loses when its playing surface overlaps the model's surface region
 (intersection over union) by this much less than the surface fit's does."""
@@ -165,7 +167,7 @@ def estimate_table(
     outline_aspect = aspect if aspect != 1.0 else None
 
     def outline_fit(
-        corners: np.ndarray, seen: np.ndarray, darkness: np.ndarray, mask: np.ndarray, **options: float
+        corners: np.ndarray, seen: np.ndarray, darkness: np.ndarray, mask: np.ndarray, **options: float | int
     ) -> TableFit:
         """The table seen through an outline's corners, with the photo's balls, diamonds and pixel stretch."""
         return fit_outline(
@@ -198,6 +200,8 @@ def estimate_table(
             try:
                 darkness = SIDE_POCKET_DARKNESS * outline.side_pocket
                 at_noses = {"offset": 0.0, "plane_z": 0.0, "max_rectangle_cost": SURFACE_MAX_RECTANGLE_COST}
+                if shows_a_table(outline):  # a top view needs no balls to tell it from a window
+                    at_noses["top_view_balls"] = 0
                 surface_fit = replace(
                     outline_fit(outline.corners_px, outline.seen, darkness, outline.mask, **at_noses), source="surface"
                 )
@@ -253,6 +257,13 @@ def estimate_table(
     if scores[0].corners >= 3:  # the diamonds' table lies on the cloth outline too
         return replace(diamond_fit, source="diamonds+cloth")
     return diamond_fit if scores[0].total >= scores[1].total else cloth_fit
+
+
+def shows_a_table(outline: SurfaceOutline) -> bool:
+    """Whether the table model sees a table there beyond doubt: all four corners are its corner peaks and two opposite
+    sides have a side pocket in their middle (no window, door or picture has those)."""
+    pockets = outline.side_pocket >= SURE_SIDE_POCKET
+    return bool(outline.from_peak.all() and ((pockets[0] and pockets[2]) or (pockets[1] and pockets[3])))
 
 
 def surface_overlap(fit: TableFit, mask: np.ndarray) -> float:

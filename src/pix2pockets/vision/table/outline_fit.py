@@ -264,6 +264,7 @@ def fit_outline(
     plane_z: float | None = None,
     max_rectangle_cost: float | None = None,
     base: TableSpec | None = None,
+    top_view_balls: int = TOP_VIEW_BALLS,
 ) -> TableFit:
     """Fit the table from its cloth outline.
 
@@ -287,6 +288,8 @@ def fit_outline(
             corners are read more surely (the table model's) may allow more.
         base: without ``spec``, the table whose balls measure the size and whose presets it snaps to (default
             9-foot, American balls; a UK preset for a blackball set).
+        top_view_balls: balls a view from straight above needs on the table to be believed (a rectangle seen square
+            on is more often a window or a picture); 0 where other cues already show a table.
 
     Returns:
         A :class:`TableFit` with ``source="cloth"``, no matched diamonds, ``rms_px`` the corners' error.
@@ -324,7 +327,7 @@ def fit_outline(
             )
             continue
         try:
-            return _final_fit(best, image_size, spec, base, boxes, len(dots), offset, plane_z)
+            return _final_fit(best, image_size, spec, base, boxes, len(dots), offset, plane_z, top_view_balls)
         except TableFitError as err:
             error = error or err
     raise error or TableFitError("no table found")
@@ -339,6 +342,7 @@ def _final_fit(
     n_diamonds: int,
     offset: float,
     plane_z: float | None = None,
+    top_view_balls: int = TOP_VIEW_BALLS,
 ) -> TableFit:
     """The fit of one hypothesis: the camera refined on its corners, the table's size from the balls."""
     aspect = best.aspect
@@ -364,9 +368,9 @@ def _final_fit(
                 camera, rms = fitted(final)
     _check_camera(camera, final, image_size)
     on_table = len(boxes) - _balls_off(camera, (boxes[:, :2] + boxes[:, 2:]) / 2, final) if len(boxes) else 0
-    if camera_tilt(camera) < math.radians(TOP_VIEW_DEG) and on_table < TOP_VIEW_BALLS:
+    if camera_tilt(camera) < math.radians(TOP_VIEW_DEG) and on_table < top_view_balls:
         # a rectangle seen square on is more often a window, a door or a picture than a table from above
-        raise TableFitError(f"no table found: a view from straight above needs {TOP_VIEW_BALLS} balls on the table")
+        raise TableFitError(f"no table found: a view from straight above needs {top_view_balls} balls on the table")
     camera = head_rail_convention(camera, final)
     return TableFit(
         final,
