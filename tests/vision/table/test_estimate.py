@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 
 from pix2pockets.data.examples import example_labels_path, example_photo_path
-from pix2pockets.geometry import TableSpec, table_preset
+from pix2pockets.geometry import PinholeCamera, TableSpec, table_preset
 from pix2pockets.pipeline.photo import load_image
 from pix2pockets.state import Ball, TableLayout
 from pix2pockets.vision.detect.analytic import analytic_detections, detections_from_synth_labels, standard_views
@@ -156,3 +156,15 @@ def test_a_top_view_with_the_models_corners_and_side_pockets_needs_no_balls():
     one_pocket = replace(plain, side_pocket=np.array([0.9, 0.0, 0.0, 0.0]))
     with pytest.raises(TableFitError, match="view from straight above"):
         estimate_table(None, Detections.empty(), size, spec, cues="surface", surface=one_pocket)
+
+
+def test_a_view_from_just_above_the_rails_is_fitted():
+    """A phone held at the rail's height (the lens 15 cm over the cloth, behind the head rail) still sees the table."""
+    spec = TableSpec()
+    centre = np.array([spec.length / 2, spec.width / 2, 0.0])
+    camera = PinholeCamera.look_at(np.array([-0.5, spec.width / 2 + 0.3, 0.15]), centre, 900.0, (1280, 720))
+    truth = camera.project_table(spec.corners, 0.0)
+    surface = outline_of(truth, camera.image_size)
+    fit = estimate_table(None, Detections.empty(), camera.image_size, spec, cues="surface", surface=surface)
+    assert min(np.abs(np.roll(fit.corners_px, k, axis=0) - truth).max() for k in (0, 2)) < 2.0
+    assert 0.1 < fit.camera.position[2] < 0.2

@@ -53,6 +53,9 @@ THREE_LINE_FOCALS = (0.55, 0.7, 0.9, 1.15, 1.5, 2.0)
 """Focal lengths tried with three cushions, as multiples of the larger (unstretched) image side."""
 THREE_LINE_FOCAL_SIGMA = 0.35  # prior on the log focal length (around 0.9 image sides) when only three cushions show
 THREE_LINE_FOCAL = 0.9
+MIN_CAMERA_HEIGHT = 0.05
+"""Least height of the fitted camera above the cushion tops [m]: a phone held at the rail's height (a low view along
+the table, the lens 5-20 cm over the cloth) still sees the playing surface."""
 TOP_VIEW_DEG = 20.0
 """Camera tilts from straight down below this are top views ..."""
 TOP_VIEW_BALLS = 3
@@ -387,7 +390,7 @@ def _final_fit(
 
 def _check_camera(camera: PinholeCamera, spec: TableSpec, image_size: tuple[int, int]) -> None:
     """Raise :class:`TableFitError` for a camera below the rails, a table behind it or an implausible focal length."""
-    if not np.all(np.isfinite(camera.position)) or camera.position[2] < spec.cushion_height + 0.2:
+    if not np.all(np.isfinite(camera.position)) or camera.position[2] < spec.cushion_height + MIN_CAMERA_HEIGHT:
         raise TableFitError("no table found: the fitted camera is not above the table")
     validate_corners(camera.project_table(spec.corners, 0.0), image_size)
     f = camera.K[1, 1]
