@@ -85,8 +85,8 @@ class ThreadWorker:
 
 
 class ProcessWorker:
-    """A worker that runs jobs in its own process (started by spawn) with its own models: it shares no threads or
-    ONNX Runtime sessions with the server."""
+    """A worker that runs jobs in a spawned process of its own, with its own models, threads and ONNX Runtime
+    sessions."""
 
     def __init__(self, spec: EngineSpec, index: int, job_timeout: float) -> None:
         self.spec = spec

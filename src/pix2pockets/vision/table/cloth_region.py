@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import cv2
 import numpy as np
 
-from pix2pockets.vision.table.quad_geometry import enclosing_quad
+from pix2pockets.vision.table.quad_geometry import enclosing_quad, quad_mask
 
 SEED_GRID = 12
 """The photo is cut into this many cells across and down; the colours of uniform cells seed the cloth."""
@@ -194,8 +194,7 @@ def score_region(
     if quad is None or not np.all(np.isfinite(quad)) or np.abs(quad).max() > 20 * max(w, h):
         return 0.0, None
     area = float(filled.sum())
-    qmask = np.zeros_like(filled)
-    cv2.fillConvexPoly(qmask, np.round(quad * 16).astype(np.int32), 1, shift=4)
+    qmask = quad_mask(quad, filled.shape)
     q_area = float(qmask.sum())
     if q_area <= 0:
         return 0.0, None

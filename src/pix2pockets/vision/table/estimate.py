@@ -29,7 +29,6 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-import cv2
 import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
@@ -41,7 +40,7 @@ from pix2pockets.vision.table.fit import TableFit, diamond_height, fit_table
 from pix2pockets.vision.table.outline_camera import CUSHION_WIDTH, outline_rectangle
 from pix2pockets.vision.table.outline_fit import fit_outline
 from pix2pockets.vision.table.pixel_aspect import pixel_aspect_of_balls, pixel_aspect_of_photo, snapped_aspect
-from pix2pockets.vision.table.quad_geometry import corner_gap
+from pix2pockets.vision.table.quad_geometry import corner_gap, quad_mask
 from pix2pockets.vision.table.surface import SurfaceOutline
 
 CUES = ("diamonds", "cloth", "surface", "all")
@@ -269,12 +268,7 @@ def shows_a_table(outline: SurfaceOutline) -> bool:
 def surface_overlap(fit: TableFit, mask: np.ndarray) -> float:
     """Intersection over union of a fit's playing surface in the photo with a surface region ``mask`` (H, W) bool;
     0 for a surface behind the camera."""
-    corners = fit.corners_px
-    if not np.all(np.isfinite(corners)) or np.any(np.abs(corners) > 1e6):
-        return 0.0
-    area = np.zeros(mask.shape, dtype=np.uint8)
-    cv2.fillPoly(area, [np.round(corners).astype(np.int32)], 1)
-    inside = area.astype(bool)
+    inside = quad_mask(fit.corners_px, mask.shape)
     union = int((inside | mask).sum())
     return int((inside & mask).sum()) / union if union else 0.0
 

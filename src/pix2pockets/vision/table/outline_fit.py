@@ -46,7 +46,7 @@ from pix2pockets.vision.table.outline_camera import (
     stretched,
 )
 from pix2pockets.vision.table.pixel_aspect import EXPORT_ASPECTS, median_box_aspect
-from pix2pockets.vision.table.quad_geometry import line_through
+from pix2pockets.vision.table.quad_geometry import line_through, quad_mask
 from pix2pockets.vision.table.table_size import size_from_balls, spec_of_length
 
 THREE_LINE_FOCALS = (0.55, 0.7, 0.9, 1.15, 1.5, 2.0)
@@ -113,14 +113,13 @@ def _coverage_cost(quad: np.ndarray, ev: _Evidence) -> float:
     poly = quad * np.array(ev.grid_scale)
     if not np.all(np.isfinite(poly)) or np.abs(poly).max() > 1e5:
         return math.inf
-    inside = np.zeros(grid.shape, dtype=np.uint8)
-    cv2.fillConvexPoly(inside, np.round(poly * 16).astype(np.int32), 1, shift=4)
+    inside = quad_mask(poly, grid.shape)
     area = float(inside.sum())
     cloth = float(grid.sum())
     if area <= 0 or cloth <= 0:
         return math.inf
-    fill = float(grid[inside > 0].sum()) / area
-    spill = float(grid[inside == 0].sum()) / cloth
+    fill = float(grid[inside].sum()) / area
+    spill = float(grid[~inside].sum()) / cloth
     return (max(0.0, 0.9 - fill) / FILL_SIGMA) ** 2 + (spill / SPILL_SIGMA) ** 2
 
 

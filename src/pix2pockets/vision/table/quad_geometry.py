@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import math
 
+import cv2
 import numpy as np
 
 
@@ -156,3 +157,13 @@ def corner_gap(a: np.ndarray, b: np.ndarray) -> float:
     if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
         return float("inf")
     return min(float(np.max(np.linalg.norm(a - np.roll(o, k, axis=0), axis=1))) for o in (b, b[::-1]) for k in range(4))
+
+
+def quad_mask(quad_px: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
+    """The pixels (H, W) bool of an array of ``shape`` inside the convex quadrilateral ``quad_px`` (4, 2) [pixel
+    indices, read to 1/16 px]; none for a quadrilateral with a corner not finite or far off the array."""
+    mask = np.zeros(shape[:2], dtype=np.uint8)
+    quad = np.asarray(quad_px, dtype=float).reshape(-1, 2)
+    if np.all(np.isfinite(quad)) and np.abs(quad).max() <= 1e5:
+        cv2.fillConvexPoly(mask, np.round(quad * 16).astype(np.int32), 1, shift=4)
+    return mask.astype(bool)

@@ -30,7 +30,14 @@ import numpy as np
 
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.keypoints import TableCues, cell_of_pixel, pixel_of_cell
-from pix2pockets.vision.table.quad_geometry import corner_gap, enclosing_quad, quad_length, robust_line, tls_fit
+from pix2pockets.vision.table.quad_geometry import (
+    corner_gap,
+    enclosing_quad,
+    quad_length,
+    quad_mask,
+    robust_line,
+    tls_fit,
+)
 
 SURFACE_THRESHOLD = 0.5
 UPSAMPLE = 4
@@ -307,22 +314,22 @@ def surface_outline(
         if cut is not None and cut[1].sum() > seen.sum():
             corners, seen = _corners_of(cut[0]), cut[1]
     corners, from_peak = _snap_to_peaks(corners, cues)
-    alternative = None
+    alternative = None  # the four peaks' corners, where they lose but would give another fit
+    all_peaks = np.ones(4, dtype=bool)
     if np.all(np.isfinite(corners)):  # the corner peaks' own outline, where it fits the surface better
         region_agreement = surface_agreement(cues, corners)
         held = balls[_inside(corners, balls)]
         peaks_only = peak_quad(cues, held, PEAK_QUAD_BALL_COST * abs(region_agreement))
         if peaks_only is not None:
-            all_peaks = np.ones(4, dtype=bool)
             if peaks_only[1] > region_agreement + PEAK_QUAD_GAIN * abs(region_agreement):
                 corners, seen, from_peak = peaks_only[0], all_peaks, all_peaks
             elif corner_gap(peaks_only[0], corners) > ALTERNATIVE_GAP * quad_length(corners):
-                alternative = (peaks_only[0], all_peaks, all_peaks)
+                alternative = peaks_only[0]
     mask = cv2.resize(region, (cues.surface.shape[1] * 4, cues.surface.shape[0] * 4), interpolation=cv2.INTER_NEAREST)
     M = np.array([[1 / box.scale, 0, 0], [0, 1 / box.scale, 0]], dtype=np.float64)
     mask = cv2.warpAffine(mask, M, (w, h), flags=cv2.INTER_NEAREST).astype(bool)
     chance = float(cues.surface[region > 0].mean())
-    second = None if alternative is None else _outline(cues, *alternative, mask, chance)
+    second = None if alternative is None else _outline(cues, alternative, all_peaks, all_peaks, mask, chance)
     return replace(_outline(cues, corners, seen, from_peak, mask, chance), alternative=second)
 
 
@@ -339,9 +346,6 @@ def _outline(
             off_middle = np.hypot(*(p - 0.5 * (a + b)))
             if off_middle <= SIDE_POCKET_REACH * length:
                 side_pocket[k] = max(side_pocket[k], float(score))
-    h, w = mask.shape
-    inside = np.zeros((h, w), dtype=np.uint8)
-    if np.all(np.abs(corners) < 1e6):
-        cv2.fillConvexPoly(inside, np.round(corners).astype(np.int32), 1)
-    fill = float((mask & inside.astype(bool)).sum()) / max(float(inside.sum()), 1.0)
+    inside = quad_mask(corners, mask.shape)
+    fill = float((mask & inside).sum()) / max(float(inside.sum()), 1.0)
     return SurfaceOutline(corners, seen, from_peak, side_pocket, mask, chance * min(fill, 1.0))
