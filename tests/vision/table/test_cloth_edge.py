@@ -173,6 +173,19 @@ def test_a_light_rail_beside_a_light_cloth_is_not_taken_for_the_cloth():
     assert corner_error(snapped.corners_px, truth) < 1.5
 
 
+def test_a_silver_rail_a_little_darker_than_the_cloth_is_no_shadow():
+    """A grey rail nearly as light as the cloth (silver trim) is greyer and a shade darker, yet no cushion's shadow:
+    its edge is the cloth's, not the dark body's beyond it."""
+    camera = view("oblique")
+    truth = true_outline(camera)
+    img = banded_photo(truth, camera.image_size, rail=(165, 166, 168))
+    colour = cloth_colour(img, region(grown(truth, 0.9), camera.image_size))
+    start = grown(truth, 0.97)
+    snapped = snap_to_cloth_edge(img, start, colour, reach=16.0)
+    outer_edge = corner_error(grown(truth, 1.035), truth)
+    assert corner_error(snapped.corners_px, truth) < 0.6 * outer_edge
+
+
 def test_the_cloth_in_shadow_inside_its_edge_does_not_pull_the_line_in():
     camera = view("oblique")
     truth = true_outline(camera)

@@ -51,7 +51,10 @@ OFF_CLOTH = 1.5
 """... and the colour two samples past it lies this far from the cloth's (colour-distance units) ..."""
 SHADOW_HUE_DEG = 30.0
 """... and is not the cloth in shadow: darker than the cloth with its hue within this many degrees, or darker and
-greyer (less than half its chroma)."""
+greyer (less than half its chroma) ..."""
+SHADOW_DARKER = 5.0
+"""... where darker means at least this much lower in Lab lightness (a grey or silver rail as light as the cloth is no
+shadow)."""
 CONTRAST_STEP = 1.5
 """Contrast across a line is read this many pixels either side of it."""
 MIN_GAIN = 0.15
@@ -161,7 +164,7 @@ def _innermost_rises(
     past = np.minimum(np.arange(grad.shape[1]) + 2, m - 1)
     rises &= dist[:, past] >= OFF_CLOTH
     beyond = lab[:, past]
-    darker = beyond[..., 0] < colour[0]
+    darker = beyond[..., 0] < colour[0] - SHADOW_DARKER
     their_chroma = np.hypot(beyond[..., 1], beyond[..., 2])
     turn = np.abs((np.arctan2(beyond[..., 2], beyond[..., 1]) - hue + math.pi) % (2 * math.pi) - math.pi)
     if chroma < 8.0:
