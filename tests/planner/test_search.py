@@ -166,7 +166,15 @@ def test_endgame_adds_side_and_finer_strokes():
     assert any(s.shot.side != 0 for s in a) and all(s.shot.side == 0 for s in b)
     assert a[0].target == 1 and a[0].success_probability >= 0.75
     assert turn_outcome(on.simulator.simulate(lay, a[0].shot), SOLIDS).shot_succeeded
-    assert SearchConfig().endgame >= 2  # on by default: it lifts the fastfiz run-out rate (docs/benchmarks-planner.md)
+
+
+def test_the_default_endgame_starts_with_four_balls_of_the_group_left():
+    # four solids left: the default planner already plays for position with the finer stroke set (side spin)
+    lay = layout([0.4, 0.3], [MID, 0.9], [2.0, 0.3], [1.9, 1.0], [0.7, 1.0], [1.0, 0.6], numbers=[0, 1, 2, 3, 4, 8])
+    default = SearchPlanner(SearchConfig(**FAST, rescue_below=0.0))
+    assert any(s.shot.side != 0 for s in default.suggest(lay, SOLIDS, np.random.default_rng(0)))
+    with_two = SearchPlanner(SearchConfig(**FAST, rescue_below=0.0, endgame=2))
+    assert all(s.shot.side == 0 for s in with_two.suggest(lay, SOLIDS, np.random.default_rng(0)))
 
 
 def test_rescue_tries_the_finer_strokes_on_a_hard_shot():

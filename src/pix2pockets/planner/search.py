@@ -105,8 +105,8 @@ class SearchConfig:
     max_verified: int = 8
     max_cut: float = math.radians(80.0)
     lookahead: float = 2.0
-    endgame: int = 2
-    endgame_candidates: int = 4
+    endgame: int = 4
+    endgame_candidates: int = 6
     endgame_speeds: tuple[float, ...] = (0.7, 1.0, 1.4, 1.8, 2.4, 3.0)
     endgame_heights: tuple[float, ...] = (0.0, 0.2, 0.4, -0.2, -0.4)
     endgame_sides: tuple[float, ...] = (0.0, 0.3, -0.3)
