@@ -85,8 +85,8 @@ class ThreadWorker:
 
 
 class ProcessWorker:
-    """A worker that runs jobs in a spawned process of its own, with its own models, threads and ONNX Runtime
-    sessions."""
+    """A worker that runs jobs in a spawned process of its own: its own models, threads and ONNX Runtime inference
+    state, none shared with the server."""
 
     def __init__(self, spec: EngineSpec, index: int, job_timeout: float) -> None:
         self.spec = spec

@@ -32,6 +32,7 @@ from pix2pockets.vision.table.cloth_region import lab_of, plain_distance
 from pix2pockets.vision.table.fit import TableFit
 from pix2pockets.vision.table.outline_camera import (
     CUSHION_WIDTH,
+    MIN_CAMERA_CLEARANCE,
     camera_through_outline,
     head_rail_convention,
     outline_rectangle,
@@ -315,6 +316,6 @@ def _camera_near(
     new_K = np.array([[f * stretch, 0.0, sol.x[7]], [0.0, f, sol.x[8]], [0.0, 0.0, 1.0]])
     found = PinholeCamera(new_K, cv2.Rodrigues(sol.x[1:4])[0], sol.x[4:7].copy(), camera.image_size)
     misfit = np.abs(residuals(sol.x)[:8]).max()
-    if found.position[2] < spec.cushion_height + 0.2 or misfit > 0.05 * quad_length(corners):
+    if found.position[2] < spec.cushion_height + MIN_CAMERA_CLEARANCE or misfit > 0.05 * quad_length(corners):
         return None
     return found

@@ -31,6 +31,7 @@ from pix2pockets.geometry.homography import apply_homography, camera_from_homogr
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.table.errors import TableFitError
+from pix2pockets.vision.table.outline_camera import MIN_CAMERA_CLEARANCE
 from pix2pockets.vision.table.pixel_aspect import EXPORT_ASPECTS, pixel_aspect_of_balls, snapped_aspect
 from pix2pockets.vision.table.rails import (
     MIN_DIAMONDS,
@@ -444,7 +445,7 @@ def _fit_labelled(
             f"no table found: only {n_matched} of {len(pts)} diamonds fit the diamond pattern of a {spec.name} table"
         )
     check_reprojection(camera, pts, index, h, spec)
-    if camera.position[2] < spec.cushion_height + 0.2:
+    if camera.position[2] < spec.cushion_height + MIN_CAMERA_CLEARANCE:
         raise TableFitError("no table found: the fitted camera is not above the table")
     validate_corners(camera.project_table(rect, h), image_size)
     if not 0.25 * max(image_size) < camera.focal_px < 6 * max(image_size):

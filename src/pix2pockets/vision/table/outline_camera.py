@@ -23,6 +23,10 @@ from pix2pockets.vision.table.errors import TableFitError
 
 CUSHION_WIDTH = 0.05
 """Width of the cloth-covered cushion top, from the nose to the rail [m] (real tables about 4.5-5.5 cm)."""
+MIN_CAMERA_CLEARANCE = 0.2
+"""Least height of a camera fitted to exact corners or diamonds above the cushion tops [m]; a camera lower than this
+over points read that surely is a wrong solution (the outline fit of a whole cloth allows less:
+:data:`~pix2pockets.vision.table.outline_fit.MIN_CAMERA_HEIGHT`)."""
 FOCAL_RANGE = (0.3, 8.0)
 """Focal lengths tried, as multiples of the larger (unstretched) image side."""
 COS_SIGMA = 0.03  # expected error of the cosine between the table's axes seen through the corners
@@ -179,7 +183,7 @@ def camera_through_outline(
     z = spec.cushion_height if plane_z is None else plane_z
     R, t = pose_from_homography(H, K, z, spec.size / 2)
     camera = PinholeCamera(K, R, t, (int(w), int(h)))
-    if camera.position[2] < spec.cushion_height + 0.2:
+    if camera.position[2] < spec.cushion_height + MIN_CAMERA_CLEARANCE:
         return None
     return camera
 
