@@ -112,6 +112,39 @@ def test_subprocess_envs_train_and_resume(tmp_path: Path) -> None:
     assert [s["n_envs"] for s in stints] == [2, 2]
 
 
+def test_resume_with_more_envs_keeps_the_rollout(tmp_path: Path) -> None:
+    """A one-environment run (32-step rollouts) resumed with two environments and ``rollout_steps=32`` collects
+    16 steps in each and so updates every 32 steps as before; the agent file keeps the 16 per environment."""
+    out = tmp_path / "r"
+    small = {"batch_size": 16, "n_epochs": 1}
+    first = TrainConfig("ppo", "one", steps=32, seed=0, out=str(out), progress=False, overrides=small, rollout_steps=32)
+    assert read_meta(train(first)).steps == 32
+    more = TrainConfig(
+        "ppo", "one", steps=64, seed=0, out=str(out), progress=False, n_envs=2, overrides=small, rollout_steps=32
+    )
+    assert read_meta(train(more, resume=True)).steps == 64
+    again = TrainConfig("ppo", "one", steps=96, seed=0, out=str(out), progress=False, n_envs=2, overrides=small)
+    assert read_meta(train(again, resume=True)).steps == 96
+    four = TrainConfig("ppo", "one", steps=97, seed=0, out=str(out), progress=False, n_envs=4, overrides=small)
+    assert read_meta(train(four, resume=True)).steps == 96 + 4 * 16  # the saved 16 per environment, four of them
+    stints = [json.loads(line) for line in (out / "stints.jsonl").read_text().splitlines()]
+    assert [(s["n_envs"], s["rollout_steps"]) for s in stints] == [(1, 32), (2, 32), (2, 32), (4, 64)]
+
+
+@pytest.mark.parametrize(
+    ("algo", "options", "message"),
+    [
+        ("td3", {"rollout_steps": 64}, "on-policy"),
+        ("ppo", {"rollout_steps": 63, "n_envs": 2}, "multiple of n_envs"),
+        ("ppo", {"rollout_steps": 0}, "multiple of n_envs"),
+        ("ppo", {"rollout_steps": 64, "overrides": {"n_steps": 32}}, "not both"),
+    ],
+)
+def test_bad_rollout_steps(algo: str, options: dict, message: str, tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match=message):
+        TrainConfig(algo, "one", steps=10, seed=0, out=str(tmp_path), **options)
+
+
 def test_threads_and_device() -> None:
     import torch
 

@@ -33,6 +33,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     tr.add_argument("--n-envs", type=int, default=1, help="environments side by side, each in a subprocess if > 1")
     tr.add_argument("--device", default="auto", help="torch device: auto (a GPU when there is one), cpu, cuda")
     tr.add_argument("--threads", type=int, help="torch threads (default: 1 on <= 2 cores, else half the free cores)")
+    tr.add_argument(
+        "--rollout-steps",
+        type=int,
+        help="ppo / a2c / maskable-ppo: steps per rollout over all --n-envs (default: the learner's n_steps each)",
+    )
     tr.set_defaults(func=run_train)
 
     ev = rl_sub.add_parser("evaluate", help="success rate (95%% interval) and full-turn rate of an agent")
@@ -91,6 +96,7 @@ def run_train(args: argparse.Namespace) -> int:
         n_envs=args.n_envs,
         device=args.device,
         threads=args.threads,
+        rollout_steps=args.rollout_steps,
     )
     path = train(config, resume=args.resume, log=_notice)
     print(f"saved {path}")

@@ -31,21 +31,23 @@ class AlgoSpec:
         continuous: needs the ``Box`` action variant.
         action_noise: adds Gaussian action noise (paper: TD3, SAC, DDPG).
         maskable: MaskablePPO (uses ``action_masks()``).
+        on_policy: learns from rollouts of ``n_steps`` per environment (PPO, A2C, MaskablePPO).
     """
 
     name: str
     continuous: bool
     action_noise: bool = False
     maskable: bool = False
+    on_policy: bool = False
 
 
 ALGOS: dict[str, AlgoSpec] = {
-    "ppo": AlgoSpec("ppo", continuous=False),
-    "a2c": AlgoSpec("a2c", continuous=False),
+    "ppo": AlgoSpec("ppo", continuous=False, on_policy=True),
+    "a2c": AlgoSpec("a2c", continuous=False, on_policy=True),
     "td3": AlgoSpec("td3", continuous=True, action_noise=True),
     "ddpg": AlgoSpec("ddpg", continuous=True, action_noise=True),
     "sac": AlgoSpec("sac", continuous=True, action_noise=True),
-    "maskable-ppo": AlgoSpec("maskable-ppo", continuous=False, maskable=True),
+    "maskable-ppo": AlgoSpec("maskable-ppo", continuous=False, maskable=True, on_policy=True),
 }
 
 
@@ -137,6 +139,13 @@ def build_model(name: str, env: gym.Env, seed: int, **overrides: Any) -> Any:
     return cls("MlpPolicy", env, **kwargs)
 
 
-def load_model(name: str, path: str, env: gym.Env | None = None, device: str = "cpu") -> Any:
-    """Load a saved model of algorithm ``name`` (optionally attached to ``env``) onto ``device``."""
-    return algo_class(name).load(path, env=env, device=device)
+def load_model(
+    name: str, path: str, env: gym.Env | None = None, device: str = "cpu", n_steps: int | None = None
+) -> Any:
+    """Load a saved model of algorithm ``name`` (optionally attached to ``env``) onto ``device``.
+
+    ``n_steps`` replaces an on-policy learner's steps per environment and rollout (e.g. to keep a rollout's total
+    when a run resumes with more environments).
+    """
+    custom = {"n_steps": n_steps} if n_steps is not None else None
+    return algo_class(name).load(path, env=env, device=device, custom_objects=custom)

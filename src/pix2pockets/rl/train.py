@@ -62,6 +62,9 @@ class TrainConfig:
         n_envs: environments stepped side by side (more than one: each in its own subprocess).
         device: torch device for the policy: ``auto`` (a GPU when there is one), ``cpu``, ``cuda``, ...
         threads: torch threads in the training process; ``None``: :func:`pix2pockets.rl.algos.torch_threads`.
+        rollout_steps: on-policy learners: steps per rollout over all environments (each collects
+            ``rollout_steps / n_envs``); ``None``: the learner's own ``n_steps`` per environment. A run resumed with
+            more environments keeps its update schedule with the rollout it had (e.g. 2048 for PPO).
     """
 
     algo: str
@@ -79,6 +82,7 @@ class TrainConfig:
     n_envs: int = 1
     device: str = "auto"
     threads: int | None = None
+    rollout_steps: int | None = None
 
     def __post_init__(self) -> None:
         spec = algo_spec(self.algo)
@@ -96,7 +100,21 @@ class TrainConfig:
             raise ValueError(f"n_envs must be >= 1, got {self.n_envs}")
         if self.threads is not None and self.threads < 1:
             raise ValueError(f"threads must be >= 1, got {self.threads}")
+        if self.rollout_steps is not None:
+            if not spec.on_policy:
+                raise ValueError(f"--rollout-steps is for on-policy learners (ppo, a2c, maskable-ppo), not {self.algo}")
+            if self.rollout_steps <= 0 or self.rollout_steps % self.n_envs:
+                raise ValueError(
+                    f"rollout_steps must be a positive multiple of n_envs ({self.n_envs}), got {self.rollout_steps}"
+                )
+            if "n_steps" in self.overrides:
+                raise ValueError("give the rollout either as rollout_steps or as an n_steps override, not both")
         _ = self.choice  # validates the env variant
+
+    @property
+    def n_steps(self) -> int | None:
+        """Steps per environment and rollout that :attr:`rollout_steps` asks for (``None``: the learner's own)."""
+        return None if self.rollout_steps is None else self.rollout_steps // self.n_envs
 
     @property
     def choice(self) -> EnvChoice:
@@ -224,12 +242,19 @@ def train(config: TrainConfig, resume: bool = False, log: Callable[[str], None] 
     try:
         ckpt = out / CHECKPOINT
         if resume and ckpt.exists():
-            model = load_model(config.algo, str(ckpt), env=env, device=device)
+            model = load_model(config.algo, str(ckpt), env=env, device=device, n_steps=config.n_steps)
             if algo_spec(config.algo).action_noise and getattr(model, "action_noise", None) is None:
                 model.action_noise = build_model(config.algo, env, config.seed, **config.overrides).action_noise
         else:
+            rollout = {} if config.n_steps is None else {"n_steps": config.n_steps}
             model = build_model(
-                config.algo, env, config.seed, tensorboard_log=config.tensorboard, device=device, **config.overrides
+                config.algo,
+                env,
+                config.seed,
+                tensorboard_log=config.tensorboard,
+                device=device,
+                **config.overrides,
+                **rollout,
             )
         (out / CONFIG).write_text(json.dumps(asdict(config), indent=2))
         done = int(model.num_timesteps)
@@ -257,6 +282,8 @@ def train(config: TrainConfig, resume: bool = False, log: Callable[[str], None] 
     finally:
         env.close()
     stint = {"steps_before": done, "steps": trained, "wall_s": round(wall, 2), "n_envs": config.n_envs}
+    if hasattr(model, "n_steps"):
+        stint["rollout_steps"] = int(model.n_steps) * config.n_envs
     stint["steps_per_s"] = round(trained / wall, 2) if wall > 0 and trained else None
     with (out / STINTS).open("a") as fh:
         fh.write(json.dumps(stint) + "\n")
