@@ -112,23 +112,26 @@ def test_subprocess_envs_train_and_resume(tmp_path: Path) -> None:
     assert [s["n_envs"] for s in stints] == [2, 2]
 
 
-def test_resume_with_more_envs_keeps_the_rollout(tmp_path: Path) -> None:
-    """A one-environment run (32-step rollouts) resumed with two environments and ``rollout_steps=32`` collects
-    16 steps in each and so updates every 32 steps as before; the agent file keeps the 16 per environment."""
+def test_resume_with_other_envs_keeps_the_rollout(tmp_path: Path) -> None:
+    """A one-environment run (32-step rollouts) resumed with two environments collects 16 steps in each and so
+    updates every 32 steps as before, and again with one; ``rollout_steps`` sets another rollout."""
     out = tmp_path / "r"
     small = {"batch_size": 16, "n_epochs": 1}
-    first = TrainConfig("ppo", "one", steps=32, seed=0, out=str(out), progress=False, overrides=small, rollout_steps=32)
-    assert read_meta(train(first)).steps == 32
-    more = TrainConfig(
-        "ppo", "one", steps=64, seed=0, out=str(out), progress=False, n_envs=2, overrides=small, rollout_steps=32
-    )
-    assert read_meta(train(more, resume=True)).steps == 64
-    again = TrainConfig("ppo", "one", steps=96, seed=0, out=str(out), progress=False, n_envs=2, overrides=small)
-    assert read_meta(train(again, resume=True)).steps == 96
-    four = TrainConfig("ppo", "one", steps=97, seed=0, out=str(out), progress=False, n_envs=4, overrides=small)
-    assert read_meta(train(four, resume=True)).steps == 96 + 4 * 16  # the saved 16 per environment, four of them
+
+    def stint(steps: int, n_envs: int, rollout: int | None = None) -> int:
+        config = TrainConfig(
+            "ppo", "one", steps=steps, seed=0, out=str(out), progress=False, n_envs=n_envs, overrides=small,
+            rollout_steps=rollout,
+        )  # fmt: skip
+        return read_meta(train(config, resume=out.exists())).steps
+
+    assert stint(32, 1, rollout=32) == 32
+    assert stint(64, 2) == 64
+    assert stint(96, 1) == 96
+    assert stint(97, 3) == 96 + 3 * 32  # 3 envs cannot share the 32-step rollout: each collects the saved 32
+    assert stint(208, 2, rollout=16) == 208  # an explicit rollout: 8 steps per env
     stints = [json.loads(line) for line in (out / "stints.jsonl").read_text().splitlines()]
-    assert [(s["n_envs"], s["rollout_steps"]) for s in stints] == [(1, 32), (2, 32), (2, 32), (4, 64)]
+    assert [(s["n_envs"], s["rollout_steps"]) for s in stints] == [(1, 32), (2, 32), (1, 32), (3, 96), (2, 16)]
 
 
 @pytest.mark.parametrize(

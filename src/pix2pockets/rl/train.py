@@ -17,6 +17,7 @@ from __future__ import annotations
 import json
 import math
 import time
+import zipfile
 from collections.abc import Callable
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
@@ -63,8 +64,9 @@ class TrainConfig:
         device: torch device for the policy: ``auto`` (a GPU when there is one), ``cpu``, ``cuda``, ...
         threads: torch threads in the training process; ``None``: :func:`pix2pockets.rl.algos.torch_threads`.
         rollout_steps: on-policy learners: steps per rollout over all environments (each collects
-            ``rollout_steps / n_envs``); ``None``: the learner's own ``n_steps`` per environment. A run resumed with
-            more environments keeps its update schedule with the rollout it had (e.g. 2048 for PPO).
+            ``rollout_steps / n_envs``); ``None``: a fresh run takes the learner's own ``n_steps`` per environment,
+            a resumed run keeps the rollout it had (so a run resumed with more or fewer environments keeps its
+            update schedule) where the new environments divide it.
     """
 
     algo: str
@@ -196,6 +198,21 @@ def save_agent(model: Any, config: TrainConfig, path: Path) -> None:
     tmp.replace(path)
 
 
+def _kept_rollout(agent: Path, n_envs: int, say: Callable[[str], None]) -> int | None:
+    """Steps per environment that keep an on-policy agent file's rollout over ``n_envs`` environments (``None``:
+    as saved, also for off-policy learners); says so when the environments cannot share it evenly."""
+    with zipfile.ZipFile(agent) as zf:
+        data = json.loads(zf.read("data"))
+    saved_steps, saved_envs = data.get("n_steps"), data.get("n_envs")
+    if not isinstance(saved_steps, int) or not isinstance(saved_envs, int) or saved_envs == n_envs:
+        return None
+    total = saved_steps * saved_envs
+    if total % n_envs:
+        say(f"{n_envs} env(s) cannot share the run's {total}-step rollouts evenly; each collects {saved_steps} steps")
+        return None
+    return total // n_envs
+
+
 def _check_resume(config: TrainConfig, out: Path) -> None:
     saved = {"physics": "event", **json.loads((out / CONFIG).read_text())}  # a config without it: event
     mine = asdict(config)
@@ -242,7 +259,8 @@ def train(config: TrainConfig, resume: bool = False, log: Callable[[str], None] 
     try:
         ckpt = out / CHECKPOINT
         if resume and ckpt.exists():
-            model = load_model(config.algo, str(ckpt), env=env, device=device, n_steps=config.n_steps)
+            n_steps = config.n_steps if config.n_steps is not None else _kept_rollout(ckpt, config.n_envs, say)
+            model = load_model(config.algo, str(ckpt), env=env, device=device, n_steps=n_steps)
             if algo_spec(config.algo).action_noise and getattr(model, "action_noise", None) is None:
                 model.action_noise = build_model(config.algo, env, config.seed, **config.overrides).action_noise
         else:
