@@ -36,7 +36,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     tr.add_argument(
         "--rollout-steps",
         type=int,
-        help="ppo / a2c / maskable-ppo: steps per rollout over all --n-envs (default: the learner's n_steps each)",
+        help="ppo / a2c / maskable-ppo: steps per rollout over all --n-envs (default: a resumed run keeps its rollout)",
     )
     tr.set_defaults(func=run_train)
 
