@@ -8,8 +8,8 @@ A run directory holds:
 - ``checkpoint.zip``: the latest model every ``checkpoint_every`` steps (no replay buffer: off-policy runs
   resume with an empty buffer, which refills within ``learning_starts`` + a few thousand steps),
 - ``model.zip``: the final agent (an agent file, see :mod:`pix2pockets.rl.bundle`),
-- ``stints.jsonl``: one line per call of :func:`train` on the run (the first and each resume) with its steps and
-  wall time (steps/s).
+- ``stints.jsonl``: one line per finished call of :func:`train` on the run (the first and each resume) with its
+  steps, wall time (steps/s), environments and, for on-policy learners, the steps per rollout.
 """
 
 from __future__ import annotations
@@ -198,19 +198,22 @@ def save_agent(model: Any, config: TrainConfig, path: Path) -> None:
     tmp.replace(path)
 
 
-def _kept_rollout(agent: Path, n_envs: int, say: Callable[[str], None]) -> int | None:
-    """Steps per environment that keep an on-policy agent file's rollout over ``n_envs`` environments (``None``:
-    as saved, also for off-policy learners); says so when the environments cannot share it evenly."""
-    with zipfile.ZipFile(agent) as zf:
+def _resumed_n_steps(config: TrainConfig, agent: Path, say: Callable[[str], None]) -> int | None:
+    """Steps per environment a resumed on-policy run collects: the share of ``config.rollout_steps``, else the share
+    that keeps the agent file's rollout over ``config.n_envs`` environments; ``None``: as saved (also for off-policy
+    learners, and when the environments cannot share the saved rollout evenly, which is said)."""
+    if not algo_spec(config.algo).on_policy or config.n_steps is not None:
+        return config.n_steps
+    with zipfile.ZipFile(agent) as zf:  # SB3's agent file: its "data" entry is JSON
         data = json.loads(zf.read("data"))
-    saved_steps, saved_envs = data.get("n_steps"), data.get("n_envs")
-    if not isinstance(saved_steps, int) or not isinstance(saved_envs, int) or saved_envs == n_envs:
+    saved_steps, saved_envs = int(data["n_steps"]), int(data["n_envs"])
+    if saved_envs == config.n_envs:
         return None
     total = saved_steps * saved_envs
-    if total % n_envs:
-        say(f"{n_envs} env(s) cannot share the run's {total}-step rollouts evenly; each collects {saved_steps} steps")
+    if total % config.n_envs:
+        say(f"{config.n_envs} env(s) cannot share the run's {total}-step rollouts evenly; each collects {saved_steps}")
         return None
-    return total // n_envs
+    return total // config.n_envs
 
 
 def _check_resume(config: TrainConfig, out: Path) -> None:
@@ -259,7 +262,7 @@ def train(config: TrainConfig, resume: bool = False, log: Callable[[str], None] 
     try:
         ckpt = out / CHECKPOINT
         if resume and ckpt.exists():
-            n_steps = config.n_steps if config.n_steps is not None else _kept_rollout(ckpt, config.n_envs, say)
+            n_steps = _resumed_n_steps(config, ckpt, say)
             model = load_model(config.algo, str(ckpt), env=env, device=device, n_steps=n_steps)
             if algo_spec(config.algo).action_noise and getattr(model, "action_noise", None) is None:
                 model.action_noise = build_model(config.algo, env, config.seed, **config.overrides).action_noise
@@ -300,8 +303,8 @@ def train(config: TrainConfig, resume: bool = False, log: Callable[[str], None] 
     finally:
         env.close()
     stint = {"steps_before": done, "steps": trained, "wall_s": round(wall, 2), "n_envs": config.n_envs}
-    if hasattr(model, "n_steps"):
-        stint["rollout_steps"] = int(model.n_steps) * config.n_envs
+    if algo_spec(config.algo).on_policy:
+        stint["rollout_steps"] = rollout_steps(model)
     stint["steps_per_s"] = round(trained / wall, 2) if wall > 0 and trained else None
     with (out / STINTS).open("a") as fh:
         fh.write(json.dumps(stint) + "\n")
