@@ -20,6 +20,7 @@ from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.locate.balls import locate_balls
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.estimate import estimate_table, outline_used, surface_overlap
+from pix2pockets.vision.table.quad_geometry import quad_mask
 from pix2pockets.vision.table.surface import SurfaceOutline
 from tests.vision.table.test_cloth import BALLS, draw_table_photo, view
 
@@ -168,3 +169,29 @@ def test_a_view_from_just_above_the_rails_is_fitted():
     fit = estimate_table(None, Detections.empty(), camera.image_size, spec, cues="surface", surface=surface)
     assert min(np.abs(np.roll(fit.corners_px, k, axis=0) - truth).max() for k in (0, 2)) < 2.0
     assert 0.1 < fit.camera.position[2] < 0.2
+
+
+def _balls_at(centres: np.ndarray, size_px: float = 20.0) -> Detections:
+    """Solid-ball detections (score 0.9) centred on ``centres`` (n, 2) [px]."""
+    half = size_px / 2
+    boxes = np.column_stack([centres - half, centres + half])
+    return Detections(boxes, np.full(len(centres), 0.9), np.full(len(centres), 2))
+
+
+def test_a_surface_fit_holding_none_of_the_balls_is_refused():
+    """A table that none of three sure balls lies on is not the one in the photo (a sliver fitted to one cushion seen
+    close up); the same outline with the balls on its cloth is the table."""
+    spec = TableSpec()
+    camera = view("oblique")
+    size = camera.image_size
+    truth = camera.project_table(spec.corners, 0.0)
+    surface = outline_of(truth, size)
+    on_cloth = camera.project_table(np.array([[0.6, 0.4], [1.2, 0.6], [1.9, 0.8]]), spec.ball_radius)
+    fit = estimate_table(None, _balls_at(on_cloth), size, spec, cues="surface", surface=surface)
+    assert min(np.abs(np.roll(fit.corners_px, k, axis=0) - truth).max() for k in (0, 2)) < 2.0
+    off_table = np.array([[30.0, 30.0], [60.0, 40.0], [90.0, 30.0]])
+    assert not quad_mask(truth, (size[1], size[0]))[off_table[:, 1].astype(int), off_table[:, 0].astype(int)].any()
+    with pytest.raises(TableFitError, match="holds none of the 3 balls"):
+        estimate_table(None, _balls_at(off_table), size, spec, cues="surface", surface=surface)
+    two = estimate_table(None, _balls_at(off_table[:2]), size, spec, cues="surface", surface=surface)
+    assert two.source == "surface"  # two stray balls are too few to overrule the outline

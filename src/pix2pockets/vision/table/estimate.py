@@ -59,6 +59,9 @@ MIN_BALLS = 2
 """A cloth fit with fewer balls on its table must rest on a clear outline: ..."""
 MIN_CONFIDENCE_WITHOUT_BALLS = 0.3
 """... all four cushions seen and a region this table-like (walls, floors and furniture make rectangles too)."""
+MIN_BALLS_HELD = 3
+"""A surface fit on none of the photo's balls is refused when there are at least this many (a sliver of a table
+fitted to one cushion seen close up)."""
 SIDE_POCKET_DARKNESS = 40.0
 """A side-pocket peak of the table model weighs as a side this much darker mid-way (Lab lightness) in the outline
 fit's choice of the long rails."""
@@ -201,15 +204,22 @@ def estimate_table(
                 at_noses = {"offset": 0.0, "plane_z": 0.0, "max_rectangle_cost": SURFACE_MAX_RECTANGLE_COST}
                 if shows_a_table(outline):  # a top view needs no balls to tell it from a window
                     at_noses["top_view_balls"] = 0
-                surface_fit = replace(
+                found = replace(
                     outline_fit(outline.corners_px, outline.seen, darkness, outline.mask, **at_noses), source="surface"
                 )
-                break
             except TableFitError as err:
                 if outline is surface:
                     reasons.append(f"surface: {_reason(err)}")
-        if surface_fit is not None and rgb is not None:  # onto the cloth's edge in the photo, sharper than the model
-            surface_fit = snap_fit(rgb, surface_fit, surface.mask, sure.boxes)
+                continue
+            if rgb is not None:  # onto the cloth's edge in the photo, sharper than the model
+                found = snap_fit(rgb, found, surface.mask, sure.boxes)
+            held = explained_cues(found, np.zeros((0, 2)), None, sure.centres).balls
+            if len(sure) >= MIN_BALLS_HELD and held == 0:
+                if outline is surface:
+                    reasons.append(f"surface: its table holds none of the {len(sure)} balls")
+                continue
+            surface_fit = found
+            break
     if surface_fit is not None:
         for fit in fits:  # a diamond fit on the surface's corners is the sharper of the two
             if corner_gap(fit.corners_px, surface_fit.corners_px) <= CORNER_TOLERANCE * math.hypot(*image_size):
