@@ -3,7 +3,7 @@ import pytest
 
 import pix2pockets
 from pix2pockets.pipeline.draw import render_result
-from pix2pockets.pipeline.photo import load_image, suggest
+from pix2pockets.pipeline.photo import load_image, no_cue_ball_reason, suggest
 from pix2pockets.pipeline.result import power_level
 from pix2pockets.state import Shot
 from pix2pockets.testing import (
@@ -16,6 +16,7 @@ from pix2pockets.testing import (
     camera,
     example_layout,
 )
+from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.table.fit import TableFitError
 
 
@@ -70,7 +71,7 @@ def test_no_shot_gives_a_safety_not_an_error():
 @pytest.mark.parametrize(
     ("kwargs", "error", "match"),
     [
-        ({"drop": (0,)}, ValueError, "no cue ball"),
+        ({"drop": (0,)}, ValueError, "no cue ball found on the table: none was seen"),
         ({"diamonds": False}, TableFitError, "too few table points"),
     ],
 )
@@ -78,6 +79,15 @@ def test_bad_photos(kwargs, error, match):
     cam = camera("45")
     with pytest.raises(error, match=match):
         suggest(blank_image(cam), "solids", LabelDetector(cam, example_layout(), **kwargs), NearestPocketPlanner())
+
+
+def test_no_cue_ball_says_whether_one_was_seen():
+    """A cue ball the photo shows but the fitted table does not hold points at the fit, not at the photo."""
+    boxes = np.array([[10.0, 10.0, 30.0, 30.0], [50.0, 10.0, 70.0, 30.0]])
+    seen = Detections(boxes, np.array([0.9, 0.9]), np.array([0, 2]))
+    assert "lies off the table found there" in no_cue_ball_reason(seen)
+    unseen = Detections(boxes, np.array([0.9, 0.9]), np.array([2, 3]))
+    assert "none was seen in the photo" in no_cue_ball_reason(unseen)
 
 
 def test_no_balls_of_any_group():

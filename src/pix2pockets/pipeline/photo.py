@@ -21,7 +21,7 @@ from pix2pockets.geometry.table import TableSpec, table_preset
 from pix2pockets.pipeline.planning import ShotPlanner, default_planner, plan_shot, planner_for_set
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
 from pix2pockets.state.ball_set import BallSet, class_name, group_name, parse_ball_set, parse_group, set_of_group
-from pix2pockets.vision.classes import DETECTION_CAPS, ball_class_of
+from pix2pockets.vision.classes import CLASS_NAMES, DETECTION_CAPS, DetClass, ball_class_of
 from pix2pockets.vision.detect.base import Detector
 from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.detect.postprocess import DEFAULT_NMS_IOU, apply_caps, box_iou, resolve_ball_classes
@@ -269,7 +269,7 @@ def suggest(
     located = locate_balls(fit.camera, det, spec, locate_method, diamond_z=fit.diamond_z)
     layout = located.to_layout(spec)
     if layout.cue_index is None:
-        raise ValueError("no cue ball found on the table")
+        raise ValueError(no_cue_ball_reason(det))
     timings["locate"] = time.perf_counter() - t
 
     t = time.perf_counter()
@@ -315,4 +315,16 @@ def suggest(
         float(fit.rms_px) if np.isfinite(fit.rms_px) else None,
         fit_evidence(fit, surface),
         chosen.value,
+    )
+
+
+def no_cue_ball_reason(detections: Detections) -> str:
+    """Why a photo's balls hold no cue ball on the fitted table, and what to do: none detected, or one detected off
+    the table the fit found (or in a pocket)."""
+    balls = detections[detections.is_ball]
+    if not np.any(balls.class_id == CLASS_NAMES.index(DetClass.CUE)):
+        return "no cue ball found on the table: none was seen in the photo (is it in view, not hidden by a player?)"
+    return (
+        "no cue ball found on the table: the cue ball seen in the photo lies off the table found there, or in a "
+        "pocket (the table fit may be off: show the whole table with its four cushions, or give the table's size)"
     )
