@@ -78,6 +78,10 @@ FOCAL_FLOOR_SIGMA = 0.05
 """Spread of the log focal length below :data:`MIN_FOCAL` allowed when a camera is moved onto the corners."""
 
 
+COLOUR_PIXELS = 20_000
+"""Most cloth pixels the cloth's colour is read from (every k-th of the region)."""
+
+
 @dataclass(frozen=True, slots=True)
 class SnappedOutline:
     """An outline moved onto the cloth's edge.
@@ -95,14 +99,17 @@ class SnappedOutline:
 
 
 def cloth_colour(rgb: np.ndarray, mask: np.ndarray, ball_boxes: np.ndarray | None = None) -> np.ndarray:
-    """The cloth's colour, CIE Lab: the median over ``mask`` (H, W) bool shrunk by 2 px, balls left out."""
+    """The cloth's colour, CIE Lab: the median over ``mask`` (H, W) bool shrunk by 2 px, balls left out (at most
+    :data:`COLOUR_PIXELS` pixels, evenly spread)."""
     inside = cv2.erode(mask.astype(np.uint8), np.ones((5, 5), np.uint8)).astype(bool)
     h, w = inside.shape
     for x1, y1, x2, y2 in np.asarray(ball_boxes if ball_boxes is not None else np.zeros((0, 4))).reshape(-1, 4):
         inside[max(int(y1), 0) : min(math.ceil(y2), h), max(int(x1), 0) : min(math.ceil(x2), w)] = False
     if inside.sum() < 20:
         inside = mask.astype(bool)
-    return np.median(lab_of(rgb[inside][None]).reshape(-1, 3), axis=0)
+    pixels = rgb[inside]
+    step = max(1, math.ceil(len(pixels) / COLOUR_PIXELS))  # an even spread of the cloth is enough for a median
+    return np.median(lab_of(pixels[::step][None]).reshape(-1, 3), axis=0)
 
 
 def _distance(rgb: np.ndarray, pts: np.ndarray, colour: np.ndarray) -> np.ndarray:
