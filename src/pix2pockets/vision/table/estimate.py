@@ -7,7 +7,8 @@ long rails) gives a fit of its own, at the cushion noses on the cloth (from the 
 (:func:`~pix2pockets.vision.table.cloth_edge.snap_fit`). Where the diamond fit agrees with it (its corners within
 :data:`CORNER_TOLERANCE`), the diamond fit is kept (``"diamonds+surface"``). Where they disagree, a diamond fit whose
 playing surface overlaps the model's surface region far less (:data:`SURFACE_OVERLAP_MARGIN`) loses, else the fit that
-explains more diamonds and balls wins (``"diamonds"`` or ``"surface"``).
+explains more diamonds and balls wins (``"diamonds"`` or ``"surface"``). A surface fit that holds none of three or more
+sure balls (:data:`MIN_BALLS_HELD`) is refused, and the corner peaks' outline tried in its place.
 
 Without a surface, :func:`estimate_table` fits the table from the diamonds
 (:func:`~pix2pockets.vision.table.fit.fit_table`, the rail sights) and from the cloth
