@@ -20,8 +20,9 @@ from pix2pockets.geometry.raster import table_to_env_pixels
 from pix2pockets.geometry.table import TableSpec, table_preset
 from pix2pockets.pipeline.planning import ShotPlanner, default_planner, plan_shot, planner_for_set
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
+from pix2pockets.state.ball import BallClass
 from pix2pockets.state.ball_set import BallSet, class_name, group_name, parse_ball_set, parse_group, set_of_group
-from pix2pockets.vision.classes import CLASS_NAMES, DETECTION_CAPS, DetClass, ball_class_of
+from pix2pockets.vision.classes import DETECTION_CAPS, ball_class_of
 from pix2pockets.vision.detect.base import Detector
 from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.detect.postprocess import DEFAULT_NMS_IOU, apply_caps, box_iou, resolve_ball_classes
@@ -322,7 +323,7 @@ def no_cue_ball_reason(detections: Detections) -> str:
     """Why a photo's balls hold no cue ball on the fitted table, and what to do: none detected, or one detected off
     the table the fit found (or in a pocket)."""
     balls = detections[detections.is_ball]
-    if not np.any(balls.class_id == CLASS_NAMES.index(DetClass.CUE)):
+    if not any(ball_class_of(int(c)) is BallClass.CUE for c in balls.class_id):
         return "no cue ball found on the table: none was seen in the photo (is it in view, not hidden by a player?)"
     return (
         "no cue ball found on the table: the cue ball seen in the photo lies off the table found there, or in a "

@@ -110,11 +110,16 @@ def explained_cues(
         outline = fit.camera.project_table(outline_rectangle(spec, CUSHION_WIDTH), spec.cushion_height)
         d = np.linalg.norm(cloth.corners_px[:, None, :] - outline[None], axis=-1)
         n_corners = int(np.sum(np.min(np.nan_to_num(d, nan=np.inf), axis=1) < CORNER_TOLERANCE * diag))
-    n_balls = 0
-    if len(ball_centres):
-        xy = fit.image_to_table(ball_centres, spec.ball_radius)
-        n_balls = int(np.sum(np.all(np.isfinite(xy), axis=1) & spec.contains(np.nan_to_num(xy, nan=-1e9))))
-    return CueScore(n_diamonds, n_corners, n_balls)
+    return CueScore(n_diamonds, n_corners, balls_on_table(fit, ball_centres))
+
+
+def balls_on_table(fit: TableFit, ball_centres: np.ndarray) -> int:
+    """How many ball box centres (n, 2) [px] ``fit`` puts on its playing surface."""
+    if not len(ball_centres):
+        return 0
+    spec = fit.spec
+    xy = fit.image_to_table(ball_centres, spec.ball_radius)
+    return int(np.sum(np.all(np.isfinite(xy), axis=1) & spec.contains(np.nan_to_num(xy, nan=-1e9))))
 
 
 def estimate_table(
@@ -214,8 +219,7 @@ def estimate_table(
                 continue
             if rgb is not None:  # onto the cloth's edge in the photo, sharper than the model
                 found = snap_fit(rgb, found, surface.mask, sure.boxes)
-            held = explained_cues(found, np.zeros((0, 2)), None, sure.centres).balls
-            if len(sure) >= MIN_BALLS_HELD and held == 0:
+            if len(sure) >= MIN_BALLS_HELD and balls_on_table(found, sure.centres) == 0:
                 if outline is surface:
                     reasons.append(f"surface: its table holds none of the {len(sure)} balls")
                 continue
@@ -243,7 +247,7 @@ def estimate_table(
         try:
             cloth = find_cloth(rgb, sure.boxes)
             fit = outline_fit(cloth.corners_px, cloth.seen, cloth.pocket_darkness, cloth.mask)
-            on_table = explained_cues(fit, np.zeros((0, 2)), None, sure.centres).balls
+            on_table = balls_on_table(fit, sure.centres)
             if on_table < MIN_BALLS and not (cloth.seen.all() and cloth.confidence >= MIN_CONFIDENCE_WITHOUT_BALLS):
                 raise TableFitError(
                     f"no table found: a cloth without balls on it ({on_table}) must show all four cushions clearly"
