@@ -8,8 +8,10 @@ import numpy as np
 from pix2pockets.state.ball_set import BallSet
 from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.stages.ball_colours import (
+    BLACK_CANDIDATE_SCORE,
     BLACK_ID,
     MAX_BLACK_SCORE,
+    MIN_BLACK_SCORE,
     NONE,
     OTHER,
     RED,
@@ -110,6 +112,45 @@ def test_a_sure_black_stays_the_black():
     img, boxes = table_photo(["yellow", "pale-black", "black", "white"])
     det = Detections(boxes, np.array([0.6, 0.6, 0.9, 0.9]), np.array([2, 2, 1, 0]), (boxes[:, :2] + boxes[:, 2:]) / 2)
     assert blackball_classes(img, det).class_id[2] == BLACK_ID
+
+
+def test_an_unsure_black_that_looks_black_stays_the_black():
+    img, boxes = table_photo(["yellow", "yellow", "black", "black", "white"])
+    cv2.circle(img, (98, 40), 12, (70, 70, 72), -1, cv2.LINE_AA)  # the detector's black, lit grey
+    det = Detections(  # the last "black" is a pocket's mouth the detector takes for a solid
+        boxes, np.array([0.6, 0.6, 0.4, 0.3, 0.9]), np.array([3, 3, 1, 2, 0]), (boxes[:, :2] + boxes[:, 2:]) / 2
+    )
+    assert black_scores(img, boxes[3:4])[0] < black_scores(img, boxes[2:3])[0] < MAX_BLACK_SCORE
+    named = blackball_classes(img, det)
+    assert named.class_id[2] == BLACK_ID and named.class_id[3] != BLACK_ID
+
+
+def test_faint_yellows_do_not_count_among_one_too_many():
+    img, boxes = table_photo(["yellow"] * 9 + ["white"])
+    cv2.circle(img, (30 + 34 * 7, 40), 12, (20, 20, 22), -1, cv2.LINE_AA)  # a black mirroring a yellow-lit room
+    cv2.circle(img, (30 + 34 * 7, 40), 9, (215, 190, 90), -1, cv2.LINE_AA)
+    x1, y1, x2, y2 = boxes[8].astype(int)  # a faint, dark yellow detection
+    img[y1 : y2 + 1, x1 : x2 + 1] = (img[y1 : y2 + 1, x1 : x2 + 1] * 0.2).astype(np.uint8)
+    conf = np.array([0.6] * 8 + [MIN_BLACK_SCORE / 2, 0.9])
+    det = Detections(boxes, conf, np.array([2] * 9 + [0]), (boxes[:, :2] + boxes[:, 2:]) / 2)
+    assert (ball_colours(img, boxes[:9]) == YELLOW).all()
+    assert black_scores(img, boxes[8:9])[0] < black_scores(img, boxes[7:8])[0] < black_scores(img, boxes[:1])[0]
+    named = blackball_classes(img, det)
+    assert named.class_id[7] == BLACK_ID and named.class_id[8] == STRIPE_ID
+
+
+def test_a_lone_yellow_or_a_ball_of_another_colour_is_no_unfound_black():
+    img, boxes = table_photo(["yellow", "yellow", "red", "red", "white"])
+    x1, y1, x2, y2 = boxes[0].astype(int)  # a yellow in deep shadow, with only one other yellow to compare
+    img[y1 : y2 + 1, x1 : x2 + 1] = (img[y1 : y2 + 1, x1 : x2 + 1] * 0.25).astype(np.uint8)
+    assert ball_colours(img, boxes[:1])[0] == YELLOW and black_scores(img, boxes[:1])[0] < MAX_BLACK_SCORE
+    assert BLACK_ID not in blackball_classes(img, detections(boxes, [2] * 4 + [0])).class_id
+    img, boxes = table_photo(["blue", "red", "yellow", "yellow", "yellow", "white"])
+    x1, y1, x2, y2 = boxes[0].astype(int)  # blue chalk on a cue's tip
+    img[y1 : y2 + 1, x1 : x2 + 1] = (img[y1 : y2 + 1, x1 : x2 + 1] * 0.3).astype(np.uint8)
+    det = detections(boxes, [2] * 5 + [0], conf=max(0.6, BLACK_CANDIDATE_SCORE))
+    assert ball_colours(img, boxes[:1])[0] == OTHER and black_scores(img, boxes[:1])[0] < MAX_BLACK_SCORE
+    assert BLACK_ID not in blackball_classes(img, det).class_id
 
 
 def test_all_fourteen_object_balls_of_a_blackball_set_survive_the_caps():

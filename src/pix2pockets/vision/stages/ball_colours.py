@@ -60,6 +60,9 @@ MIN_OTHER_YELLOWS = 2
 
 SURE_BLACK = 0.5
 """A black the detector is this sure of stays the black."""
+MIN_BLACK_SCORE = 0.15
+"""Least detection score of a ball counted among one colour's balls when one too many of them hides the black (the
+pipeline keeps a black from this score up; fainter ones are mostly pockets)."""
 BLACK_CANDIDATE_SCORE = 0.25
 """Least detection score of a ball that may be taken for an unfound black."""
 
@@ -171,9 +174,42 @@ def _blacker_than_yellows(
         if cand not in yellows:
             continue
         others = yellow_scores[(yellows != cand) & np.isfinite(yellow_scores)]
-        if len(others) >= MIN_OTHER_YELLOWS:
-            ok[k] = score < BLACKER_THAN_YELLOWS * float(np.median(others))
+        ok[k] = len(others) >= MIN_OTHER_YELLOWS and score < BLACKER_THAN_YELLOWS * float(np.median(others))
     return ok
+
+
+def unfound_black(
+    rgb: np.ndarray, det: Detections, objects: np.ndarray, colours: np.ndarray, blacks: np.ndarray
+) -> int | None:
+    """The black of a blackball set the detector is unsure of (an index into ``det``), or None.
+
+    In this order: where one colour counts more than 7 balls (of score :data:`MIN_BLACK_SCORE` or more), the blackest
+    of them (a black mirroring the room can look yellow throughout); else the detector's own unsure black when it looks
+    black (:func:`black_scores` under :data:`MAX_BLACK_SCORE`, score :data:`BLACK_CANDIDATE_SCORE` or more); else the
+    blackest yellow or colourless ball (under :data:`MAX_BLACK_SCORE`, score :data:`BLACK_CANDIDATE_SCORE` or more:
+    fainter ones are often pockets), a yellow one only when clearly darker than at least :data:`MIN_OTHER_YELLOWS`
+    other yellows (:data:`BLACKER_THAN_YELLOWS`). A ball of another clear colour (blue chalk on a cue's tip) is none.
+
+    Args:
+        rgb: the photo, RGB uint8 (H, W, 3).
+        det: the resolved detections.
+        objects: indices of the object balls (solid or stripe) in ``det``; ``colours`` (their :func:`ball_colours`).
+        blacks: indices of the detector's blacks.
+    """
+    for colour in (RED, YELLOW):
+        same = objects[(colours == colour) & (det.confidence[objects] >= MIN_BLACK_SCORE)]
+        if len(same) > 7:  # one too many of a colour: the black is among them
+            return int(same[int(np.argmin(black_scores(rgb, det.boxes[same])))])
+    own = blacks[det.confidence[blacks] >= BLACK_CANDIDATE_SCORE]
+    own_scores = black_scores(rgb, det.boxes[own])
+    if len(own) and own_scores.min() < MAX_BLACK_SCORE:
+        return int(own[int(np.argmin(own_scores))])
+    candidates = objects[np.isin(colours, (YELLOW, NONE)) & (det.confidence[objects] >= BLACK_CANDIDATE_SCORE)]
+    scores = black_scores(rgb, det.boxes[candidates])
+    scores[~_blacker_than_yellows(rgb, det, objects, colours, candidates, scores)] = np.inf
+    if len(candidates) and scores.min() < MAX_BLACK_SCORE:
+        return int(candidates[int(np.argmin(scores))])
+    return None
 
 
 def blackball_classes(rgb: np.ndarray, det: Detections) -> Detections:
@@ -182,11 +218,7 @@ def blackball_classes(rgb: np.ndarray, det: Detections) -> Detections:
     (blackball balls carry none); ``data[BALL_COLOUR]`` holds each object ball's colour (:data:`NONE` for the
     others).
 
-    Unless the detector is sure of a black (:data:`SURE_BLACK`), the black is found among the other balls: where one
-    colour counts more than 7 balls, the blackest of them (a black mirroring the room can look yellow throughout);
-    else the blackest ball that is not red (:func:`black_scores`, under :data:`MAX_BLACK_SCORE`, of score
-    :data:`BLACK_CANDIDATE_SCORE` or more: fainter ones are often pockets), a yellow one only when clearly darker
-    than the other yellows (:data:`BLACKER_THAN_YELLOWS`).
+    The black is chosen by :func:`unfound_black` unless the detector is sure of one (:data:`SURE_BLACK`).
     """
     objects = _object_balls(det)
     colours = ball_colours(rgb, det.boxes[objects])
@@ -194,19 +226,8 @@ def blackball_classes(rgb: np.ndarray, det: Detections) -> Detections:
     class_id[objects[colours == RED]] = SOLID_ID
     class_id[objects[colours == YELLOW]] = STRIPE_ID
     blacks = np.flatnonzero(det.is_ball & (det.class_id == BLACK_ID))
-    if not np.any(det.confidence[blacks] >= SURE_BLACK):  # the black, mirroring the room, may read as a colour
-        black = None
-        for colour in (RED, YELLOW):
-            same = objects[colours == colour]
-            if len(same) > 7:  # one too many of a colour: the black is among them
-                black = same[int(np.argmin(black_scores(rgb, det.boxes[same])))]
-        if black is None:
-            candidates = np.concatenate([blacks, objects[colours != RED]])
-            candidates = candidates[det.confidence[candidates] >= BLACK_CANDIDATE_SCORE]
-            scores = black_scores(rgb, det.boxes[candidates])
-            scores[~_blacker_than_yellows(rgb, det, objects, colours, candidates, scores)] = np.inf
-            if len(candidates) and scores.min() < MAX_BLACK_SCORE:
-                black = candidates[int(np.argmin(scores))]
+    if not np.any(det.confidence[blacks] >= SURE_BLACK):
+        black = unfound_black(rgb, det, objects, colours, blacks)
         if black is not None:
             class_id[blacks] = STRIPE_ID  # unsure blacks that lose play as object balls
             class_id[black] = BLACK_ID
