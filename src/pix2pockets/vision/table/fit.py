@@ -277,7 +277,8 @@ def fit_table(
         raise TableFitError("diamond positions must be finite")
     if len(pts) < MIN_DIAMONDS:
         raise TableFitError(
-            f"too few table points: {len(pts)} diamonds detected, need at least {MIN_DIAMONDS} on two rails "
+            f"too few table points: {len(pts)} diamond{'s' * (len(pts) != 1)} detected, "
+            f"need at least {MIN_DIAMONDS} on two rails "
             "(show more of the table: two rails with their sights, not hidden by players or the frame edge)"
         )
     h = diamond_height(spec) if diamond_z is None else float(diamond_z)

@@ -302,7 +302,8 @@ def fit_outline(
     corners = np.asarray(corners_px, dtype=float).reshape(4, 2)
     seen = np.ones(4, dtype=bool) if seen is None else np.asarray(seen, dtype=bool).reshape(4)
     if seen.sum() < 3:
-        raise TableFitError(f"no table found: only {int(seen.sum())} cushions of the table are in view, 3 are needed")
+        n = int(seen.sum())
+        raise TableFitError(f"no table found: only {n} cushion{'s' * (n != 1)} of the table in view, 3 are needed")
     if not np.all(np.isfinite(corners)):
         raise TableFitError("no table found: the cloth outline has no four corners")
     # a camera above the table shows the table frame's corner order with a negative signed area in (u, v)

@@ -280,7 +280,8 @@ def label_candidates(
     if not ranked:
         n = 0 if best is None else best[0]
         raise TableFitError(
-            f"too few table points: {n} diamonds could be matched (need {MIN_DIAMONDS} on at least two rails)"
+            f"too few table points: {n} diamond{'s' * (n != 1)} could be matched "
+            f"(need {MIN_DIAMONDS} on at least two rails)"
         )
     top = ranked[0][0][0]
     return [ix for sc, ix in ranked if sc[0] >= top - 1][:keep]
