@@ -74,6 +74,13 @@ def _classifier_options(parser: argparse.ArgumentParser) -> None:
         default=0.0,
         help="flat ball icons of broadcast graphics as 'no ball' crops, per labelled-ball crop (default 0)",
     )
+    parser.add_argument(
+        "--hard-negatives",
+        type=int,
+        default=0,
+        help="copies of each false ball the bundled detector finds on the training images (pockets, cue tips) "
+        "as 'no ball' crops (default 0)",
+    )
 
 
 def _classifier_settings(args: argparse.Namespace) -> dict:
@@ -86,6 +93,7 @@ def _classifier_settings(args: argparse.Namespace) -> dict:
         "class_power": args.class_power,
         "crop_size": args.crop_size,
         "icon_negatives": args.icon_negatives,
+        "hard_negatives": args.hard_negatives,
     }
 
 

@@ -35,6 +35,8 @@ def test_unknown_head_bad_copies_and_bad_jitter_are_refused():
         CropTrainConfig(data=("d",), out="o", crop_size=44)
     with pytest.raises(ValueError, match="icon_negatives"):
         CropTrainConfig(data=("d",), out="o", icon_negatives=1.5)
+    with pytest.raises(ValueError, match="hard_negatives"):
+        CropTrainConfig(data=("d",), out="o", hard_negatives=-1)
 
 
 def _disc_and_cap() -> tuple[torch.Tensor, torch.Tensor]:

@@ -101,6 +101,8 @@ class CropTrainConfig(CropTrainSettings):
         crop_size: side of a crop [px], a multiple of 8 (inference reads it from the ONNX input).
         icon_negatives: flat ball icons (broadcast graphics, :mod:`~pix2pockets.vision.train.icon_crops`) added
             as "no ball" crops, per labelled-ball crop (0: none).
+        hard_negatives: copies of each of the bundled detector's false balls on the training images (pockets, cue
+            tips, chalk: :mod:`~pix2pockets.vision.train.hard_negatives`) added as "no ball" crops (0: none).
     """
 
     command: ClassVar[str] = "train-ball-classifier"
@@ -114,6 +116,7 @@ class CropTrainConfig(CropTrainSettings):
     low_res: float = CropConfig().low_res
     crop_size: int = CROP_SIZE
     icon_negatives: float = 0.0
+    hard_negatives: int = 0
 
     def check(self) -> None:
         if not 0 <= self.class_power <= 1:
@@ -126,6 +129,8 @@ class CropTrainConfig(CropTrainSettings):
             raise ValueError(f"low_res must be in [0, 1], got {self.low_res}")
         if not 0 <= self.icon_negatives <= 1:
             raise ValueError(f"icon_negatives must be in [0, 1], got {self.icon_negatives}")
+        if self.hard_negatives < 0:
+            raise ValueError(f"hard_negatives must be >= 0, got {self.hard_negatives}")
         if not 0 <= self.centre_jitter < 0.5 or not 0 < self.scale_jitter[0] <= self.scale_jitter[1]:
             raise ValueError(
                 f"centre_jitter must be in [0, 0.5) and scale_jitter a range lo <= hi above 0, got "
@@ -198,6 +203,15 @@ def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
         icons = ball_icon_crops(round(cfg.icon_negatives * int((labels < NO_BALL).sum())), rng, cfg.crop_size)
         crops = np.concatenate([crops, degrade_crops(icons, rng, cfg.low_res)])
         labels = np.concatenate([labels, np.full(len(icons), NO_BALL)])
+    if cfg.hard_negatives > 0:
+        from pix2pockets.pipeline.photo import default_detector
+        from pix2pockets.vision.train.hard_negatives import hard_negative_crops
+
+        rng = np.random.default_rng((cfg.seed, 2))
+        hard = hard_negative_crops(labelled_sources(cfg.data, "train"), default_detector(), cfg.crop_size)
+        hard = np.concatenate([degrade_crops(hard, rng, cfg.low_res) for _ in range(cfg.hard_negatives)])
+        crops = np.concatenate([crops, hard])
+        labels = np.concatenate([labels, np.full(len(hard), NO_BALL)])
     test = _sources(cfg, "test")
     test_cfg = CropConfig(copies=1, crop_size=cfg.crop_size)
     test_crops, test_labels = (
