@@ -8,7 +8,13 @@ highest IoU (>= 0.5) and its class compared, three ways:
 - *raw*: the most confident raw entry (before post-processing) of the matched box;
 - *paper*: after the paper's post-processing (class-agnostic NMS, caps);
 - *pipeline*: after the product's (`clean_detections`: one class per ball, cue and 8 once each, per-class
-  confidence floors); a ball the pipeline drops counts as missed.
+  confidence floors); a ball the pipeline drops counts as missed;
+- *located*: on the photos where the pipeline fits a table, the *pipeline* reading's balls that lie on it
+  (`locate_balls`): the cue ball and the 8 claimed before the balls off the table are dropped;
+- *on the table*: on the same photos, as `suggest` reads them: the balls off the table dropped first, then the cue
+  ball and the 8 claimed among the rest (`balls_in_play`).
+
+In the last two a ball off the fitted table counts as missed.
 
 The detector saw these photos' ball boxes in training (the "any ball" head), never their classes.
 
@@ -26,19 +32,23 @@ from pathlib import Path
 import numpy as np
 
 from pix2pockets.cli.detector_options import add_detector_options, detector_from_args
-from pix2pockets.pipeline.photo import clean_detections
+from pix2pockets.pipeline.photo import balls_in_play, clean_detections, read_surface
+from pix2pockets.state.ball_set import BallSet
 from pix2pockets.vision.classes import BALL_IDS, CLASS_NAMES
 from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.detect.onnx_detector import OnnxDetectorConfig
 from pix2pockets.vision.detect.postprocess import box_iou, postprocess
 from pix2pockets.vision.image_io import read_image_rgb
+from pix2pockets.vision.locate.balls import locate_balls
+from pix2pockets.vision.table.estimate import estimate_table
+from pix2pockets.vision.table.fit import TableFitError
 
 HERE = Path(__file__).resolve().parent
 DEFAULT_DATA = HERE.parent.parent / "shared" / "data" / "real-snooker-vision"
 DEFAULT_LABELS = HERE / "data" / "real_ball_classes.json"
 MIN_IOU = 0.5
 MISSED = len(BALL_IDS)  # the confusion matrix's last column
-READINGS = ("raw", "paper", "pipeline")
+READINGS = ("raw", "paper", "pipeline", "located", "on the table")
 
 
 def labelled_boxes(entry: dict, size: tuple[int, int]) -> tuple[np.ndarray, np.ndarray]:
@@ -76,7 +86,18 @@ def confusion(data: Path, labels: dict, detector) -> dict[str, np.ndarray]:
         image = read_image_rgb(path)
         boxes, truth = labelled_boxes(entry, (image.shape[1], image.shape[0]))
         raw = detector.detect(image)
-        for reading, found in zip(READINGS, (raw, postprocess(raw), clean_detections(raw)), strict=True):
+        det = clean_detections(raw)
+        readings = {"raw": raw, "paper": postprocess(raw), "pipeline": det}
+        size = (image.shape[1], image.shape[0])
+        surface = read_surface(image, det, True)
+        try:
+            fit = estimate_table(image, det, size, pixel_aspect=det.pixel_aspect, surface=surface)
+        except TableFitError:
+            pass
+        else:
+            readings["located"] = locate_balls(fit.camera, det, fit.spec).detections
+            readings["on the table"] = balls_in_play(raw, image, BallSet.AMERICAN, fit).detections
+        for reading, found in readings.items():
             np.add.at(counts[reading], (truth, called_classes(boxes, found)), 1)
     return counts
 
@@ -109,7 +130,7 @@ def main() -> None:
     labels = json.loads(args.labels.read_text())
     detector = detector_from_args(args, OnnxDetectorConfig().conf_threshold)
     counts = confusion(args.data, labels, detector)
-    print(f"{'reading':<9} {'class':<7} {'balls':>5} {'found':>6} {'right':>6} {'of found':>8}   called as")
+    print(f"{'reading':<12} {'class':<7} {'balls':>5} {'found':>6} {'right':>6} {'of found':>8}   called as")
     header = " ".join(f"{n:>6}" for n in (*CLASS_NAMES[:MISSED], "missed"))
     for reading in READINGS:
         for name, row in summary(counts[reading]).items():
@@ -117,10 +138,10 @@ def main() -> None:
             if name != "all":
                 calls = " ".join(f"{v:>6}" for v in counts[reading][CLASS_NAMES.index(name)])
             print(
-                f"{reading:<9} {name:<7} {row['balls']:>5} {row['found']:>6.3f} {row['right']:>6.3f} "
+                f"{reading:<12} {name:<7} {row['balls']:>5} {row['found']:>6.3f} {row['right']:>6.3f} "
                 f"{row['right_of_found']:>8.3f}   {calls}"
             )
-    print(f"{'':<48}{header}")
+    print(f"{'':<51}{header}")
     if args.json:
         report = {
             "labels": str(args.labels),

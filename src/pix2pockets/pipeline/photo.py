@@ -27,7 +27,7 @@ from pix2pockets.vision.detect.base import Detector
 from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.detect.postprocess import DEFAULT_NMS_IOU, apply_caps, box_iou, resolve_ball_classes
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.locate.balls import LocateMethod, locate_balls
+from pix2pockets.vision.locate.balls import LocatedBalls, LocateMethod, locate_balls, on_the_table
 from pix2pockets.vision.stages.ball_classifier import NUMBER_PROBS
 from pix2pockets.vision.stages.ball_colours import BALL_COLOUR, RED, YELLOW, blackball_classes, read_ball_set
 from pix2pockets.vision.stages.ball_numbers import BallNumberReader, assign_numbers
@@ -267,7 +267,7 @@ def suggest(
     timings["rail_height"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    located = locate_balls(fit.camera, det, spec, locate_method, diamond_z=fit.diamond_z)
+    located = balls_in_play(raw, rgb, chosen, fit, locate_method)
     layout = located.to_layout(spec)
     if layout.cue_index is None:
         raise ValueError(no_cue_ball_reason(det))
@@ -317,6 +317,19 @@ def suggest(
         fit_evidence(fit, surface),
         chosen.value,
     )
+
+
+def balls_in_play(
+    raw: Detections, rgb: np.ndarray, ball_set: BallSet, fit: TableFit, method: LocateMethod | str = "sphere"
+) -> LocatedBalls:
+    """The balls on a fitted table: the raw detections on its playing surface (:func:`on_the_table`) post-processed
+    again for the ball set (:func:`clean_detections_for_set`), so that the cue ball and the 8 are claimed among the
+    balls in play (a pocket's mouth or a ball on a rail takes neither from them), then located
+    (:func:`locate_balls`)."""
+    spec = fit.spec
+    on_table = on_the_table(fit.camera, raw, spec, method, diamond_z=fit.diamond_z)
+    in_play, _ = clean_detections_for_set(raw[on_table], rgb, ball_set.value)
+    return locate_balls(fit.camera, in_play, spec, method, diamond_z=fit.diamond_z)
 
 
 def no_cue_ball_reason(detections: Detections) -> str:

@@ -5,7 +5,13 @@ from pix2pockets.geometry import TableSpec
 from pix2pockets.state import Ball, BallClass, TableLayout, random_layout
 from pix2pockets.vision.detect.analytic import analytic_detections, standard_views
 from pix2pockets.vision.detect.detections import Detections
-from pix2pockets.vision.locate.balls import LocateMethod, locate_balls, settle_positions, sphere_boxes
+from pix2pockets.vision.locate.balls import (
+    LocateMethod,
+    locate_balls,
+    on_the_table,
+    settle_positions,
+    sphere_boxes,
+)
 from pix2pockets.vision.table.fit import fit_table
 
 SPEC = TableSpec()
@@ -69,6 +75,19 @@ def test_balls_off_table_or_in_pockets_are_dropped():
     assert loc.detections.class_names == ["cue"]
     np.testing.assert_allclose(loc.positions, [[1.0, 0.5]], atol=0.005)
     assert loc.env_positions.shape == (1, 2)
+
+
+def test_on_the_table_marks_every_entry_of_a_ball_in_play_and_every_diamond():
+    cam = VIEWS["top"]
+    layout = TableLayout((Ball(BallClass.CUE),), np.array([[1.0, 0.5]]), SPEC)
+    det = analytic_detections(cam, layout)
+    R = SPEC.ball_radius
+    extra_pts = np.array([[1.0, 0.5, R], [SPEC.length / 2, -0.2, R], [0.0, 0.0, R]])  # same ball; rail; pocket
+    extra = Detections(sphere_boxes(cam, extra_pts, R), np.ones(3), np.array([3, 1, 1]))
+    mask = on_the_table(cam, Detections.concatenate([det, extra]), SPEC)
+    n = len(det)
+    assert mask[:n].all()  # the ball and the diamonds
+    assert mask[n:].tolist() == [True, False, False]
 
 
 def test_a_ball_seen_twice_is_kept_once_and_touching_balls_stay_two():

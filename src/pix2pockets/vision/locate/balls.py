@@ -166,24 +166,10 @@ def locate_balls(
             ball radius, well above the location error and well below the gap of touching balls.
     """
     spec = spec or TableSpec()
-    method = LocateMethod(method)
     det = detections[detections.is_ball]
     R = spec.ball_radius
-    if method is LocateMethod.LINEAR:
-        xy = locate_linear(camera, det.boxes, spec, diamond_z)
-    else:
-        xy = locate_sphere(camera, det.boxes, R)
-        if method is LocateMethod.CONTACT:
-            has = np.all(np.isfinite(det.contact), axis=1)
-            if has.any():
-                xy[has] = locate_contact(camera, det.contact[has])
-    finite = np.all(np.isfinite(xy), axis=1)
-    on_table = finite & spec.contains(np.where(finite[:, None], xy, -1e9), margin=R - off_table_margin)
-    pockets = spec.pocket_centres
-    radii = np.array([p.capture_radius for p in spec.pockets])
-    dist = np.linalg.norm(np.where(finite[:, None], xy, 1e9)[:, None, :] - pockets[None], axis=-1)
-    in_pocket = np.any(dist < radii[None], axis=1)
-    keep = on_table & ~in_pocket
+    xy = table_centres(camera, det, spec, method, diamond_z)
+    keep = playable(xy, spec, off_table_margin)
     keep[keep] = ~seen_twice(xy[keep], det.confidence[keep], R if same_ball_distance is None else same_ball_distance)
     xy = xy[keep]
     xy = (
@@ -193,6 +179,54 @@ def locate_balls(
     )
     contact = camera.project_table(xy, 0.0) if len(xy) else np.zeros((0, 2))
     return LocatedBalls(det[keep], xy, contact, int((~keep).sum()))
+
+
+def table_centres(
+    camera: PinholeCamera,
+    detections: Detections,
+    spec: TableSpec,
+    method: LocateMethod | str = LocateMethod.SPHERE,
+    diamond_z: float | None = None,
+) -> np.ndarray:
+    """Table centres (n, 2) [m] of ball detections (n of them, all balls), NaN where the camera sees none."""
+    method = LocateMethod(method)
+    if method is LocateMethod.LINEAR:
+        return locate_linear(camera, detections.boxes, spec, diamond_z)
+    xy = locate_sphere(camera, detections.boxes, spec.ball_radius)
+    if method is LocateMethod.CONTACT:
+        has = np.all(np.isfinite(detections.contact), axis=1)
+        if has.any():
+            xy[has] = locate_contact(camera, detections.contact[has])
+    return xy
+
+
+def playable(xy: np.ndarray, spec: TableSpec, off_table_margin: float = 0.03) -> np.ndarray:
+    """Mask of table centres (n, 2) [m] on the playing surface (at most ``off_table_margin`` [m] outside the legal
+    centre region) and in no pocket."""
+    R = spec.ball_radius
+    finite = np.all(np.isfinite(xy), axis=1)
+    on_table = finite & spec.contains(np.where(finite[:, None], xy, -1e9), margin=R - off_table_margin)
+    radii = np.array([p.capture_radius for p in spec.pockets])
+    dist = np.linalg.norm(np.where(finite[:, None], xy, 1e9)[:, None, :] - spec.pocket_centres[None], axis=-1)
+    return on_table & ~np.any(dist < radii[None], axis=1)
+
+
+def on_the_table(
+    camera: PinholeCamera,
+    detections: Detections,
+    spec: TableSpec,
+    method: LocateMethod | str = LocateMethod.SPHERE,
+    off_table_margin: float = 0.03,
+    diamond_z: float | None = None,
+) -> np.ndarray:
+    """Mask (n,) of the detections that are diamonds or balls whose table centre :func:`locate_balls` would keep
+    (on the playing surface, in no pocket); every entry of a raw detector's output counts on its own."""
+    mask = np.ones(len(detections), dtype=bool)
+    balls = np.flatnonzero(detections.is_ball)
+    if len(balls):
+        xy = table_centres(camera, detections[balls], spec, method, diamond_z)
+        mask[balls] = playable(xy, spec, off_table_margin)
+    return mask
 
 
 def seen_twice(positions: np.ndarray, confidence: np.ndarray, min_distance: float) -> np.ndarray:

@@ -1,0 +1,112 @@
+"""Ball classes on the fitted table, on renders: the cue ball and the 8 claimed before or after the balls off the
+table are dropped.
+
+Renders ``--n`` scenes of each ball set (``render(seed, size, ball_set=...)``, seeds from ``--seed``), runs the bundled
+detector, the pipeline's post-processing for the set (given) and its table fit, and compares each labelled ball's
+class with the class of the kept ball that boxes it (IoU >= 0.5; none: missed), two ways:
+
+- *located*: the post-processed balls that lie on the fitted table (``locate_balls``): the cue ball and the 8 are
+  claimed before the balls off the table are dropped;
+- *on the table*: as ``suggest`` reads them (``balls_in_play``): the raw detections off the table dropped first, then
+  the cue ball and the 8 claimed among the rest.
+
+Only renders with a table fit count; a labelled ball off the fitted table counts as missed.
+
+Usage:
+    PYTHONPATH=src python benchmarks/rendered_table_classes.py [--n 200] [--seed 7000] [--size 960x540] [--json OUT]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+
+os.environ.setdefault("OMP_NUM_THREADS", "1")
+
+from pix2pockets.pipeline.photo import balls_in_play, clean_detections_for_set, default_detector, read_surface
+from pix2pockets.state.ball_set import BallSet, class_name
+from pix2pockets.synth.renderer import parse_size, render
+from pix2pockets.vision.classes import BALL_IDS, CLASS_NAMES
+from pix2pockets.vision.detect.detections import Detections
+from pix2pockets.vision.detect.postprocess import box_iou
+from pix2pockets.vision.locate.balls import locate_balls
+from pix2pockets.vision.table.estimate import estimate_table
+from pix2pockets.vision.table.fit import TableFitError
+
+MIN_IOU = 0.5
+MISSED = len(BALL_IDS)
+READINGS = ("located", "on the table")
+
+
+def called_classes(boxes: np.ndarray, found: Detections) -> np.ndarray:
+    """For each labelled box (n, 4) [px], the class of the found ball boxing it best (IoU >= :data:`MIN_IOU`), else
+    :data:`MISSED`."""
+    called = np.full(len(boxes), MISSED)
+    balls = found[found.is_ball]
+    if len(balls) and len(boxes):
+        iou = box_iou(boxes, balls.boxes)
+        best = iou.argmax(axis=1)
+        hit = iou[np.arange(len(boxes)), best] >= MIN_IOU
+        called[hit] = balls.class_id[best[hit]]
+    return called
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--n", type=int, default=200, help="renders of each ball set (default 200)")
+    ap.add_argument("--seed", type=int, default=7000, help="first render seed (default 7000)")
+    ap.add_argument("--size", default="960x540", help="render size WxH (default 960x540)")
+    ap.add_argument("--json", default=None, help="write the results here")
+    args = ap.parse_args()
+
+    size = parse_size(args.size)
+    detector = default_detector()
+    report: dict = {"n_renders": args.n, "first_seed": args.seed, "size": list(size)}
+    start = time.perf_counter()
+    print(f"{'set':<10} {'reading':<13} " + " ".join(f"{'right ' + n:>13}" for n in ("cue", "8", "object")))
+    for ball_set in BallSet:
+        counts = {r: np.zeros((len(BALL_IDS), MISSED + 1), int) for r in READINGS}
+        fitted = 0
+        for k in range(args.n):
+            out = render(args.seed + k, size, ball_set=ball_set.value)
+            labelled = [b for b in out.labels["balls"] if b["labelled"]]
+            boxes = np.array([b["box_px"] for b in labelled], dtype=float).reshape(-1, 4)
+            truth = np.array([b["class_id"] for b in labelled], dtype=int)
+            raw = detector.detect(out.image)
+            det, _ = clean_detections_for_set(raw, out.image, ball_set)
+            try:
+                surface = read_surface(out.image, det, True)
+                fit = estimate_table(out.image, det, size, pixel_aspect=det.pixel_aspect, surface=surface)
+            except TableFitError:
+                continue
+            fitted += 1
+            readings = {
+                "located": locate_balls(fit.camera, det, fit.spec).detections,
+                "on the table": balls_in_play(raw, out.image, ball_set, fit).detections,
+            }
+            for reading, found in readings.items():
+                np.add.at(counts[reading], (truth, called_classes(boxes, found)), 1)
+        report[ball_set.value] = {"fitted": fitted}
+        for reading, m in counts.items():
+            right = np.diag(m[:, :MISSED])
+            per_class = {
+                class_name(CLASS_NAMES[c], ball_set): {"balls": int(m[c].sum()), "right": int(right[c])}
+                for c in BALL_IDS
+            }
+            report[ball_set.value][reading] = {"per_class": per_class, "confusion": m.tolist()}
+            objects = right[2:].sum(), m[2:].sum()
+            cells = [(right[0], m[0].sum()), (right[1], m[1].sum()), objects]
+            print(f"{ball_set.value:<10} {reading:<13} " + " ".join(f"{f'{a}/{b}':>13}" for a, b in cells))
+        print(f"{ball_set.value:<10} {fitted} of {args.n} renders with a table fit")
+    report["seconds"] = round(time.perf_counter() - start, 1)
+    if args.json:
+        Path(args.json).write_text(json.dumps(report, indent=1) + "\n")
+
+
+if __name__ == "__main__":
+    main()
