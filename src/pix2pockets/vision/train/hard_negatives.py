@@ -2,10 +2,10 @@
 
 Random points and diamonds teach the classifier little about what the detector actually takes for a ball: a
 pocket's dark mouth, a cue's tip, chalk on a rail, a reflection. Run over the training renders, the bundled
-detector (its post-processing with room for every object ball,
-:data:`~pix2pockets.pipeline.photo.LOOSE_OBJECT_CAPS`) scores such things as
-balls; every ball it keeps from :data:`MIN_SCORE` up that overlaps no labelled ball (box IoU under
-:data:`MAX_IOU`) gives a crop cut as the pipeline cuts its balls' (:func:`~pix2pockets.vision.stages.crops.crop_balls`).
+detector (its post-processing with room for every object ball, :data:`~pix2pockets.pipeline.photo.LOOSE_OBJECT_CAPS`)
+scores such things as balls; every ball it keeps from :data:`MIN_SCORE` up that overlaps no labelled ball (box IoU
+under :data:`MAX_IOU`) gives a crop cut as the pipeline cuts its balls'
+(:func:`~pix2pockets.vision.stages.crops.crop_balls`).
 """
 
 from __future__ import annotations
@@ -16,6 +16,8 @@ import numpy as np
 
 from pix2pockets.pipeline.photo import LOOSE_OBJECT_CAPS
 from pix2pockets.vision.classes import BALL_IDS
+from pix2pockets.vision.detect.base import Detector
+from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.detect.postprocess import box_iou, resolve_ball_classes
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.metrics.yolo_data import LabelledImage
@@ -27,7 +29,7 @@ MAX_IOU = 0.3
 """A detection overlapping a labelled ball by this much (box IoU) or more is no false ball."""
 
 
-def false_ball_boxes(detections, labelled_boxes: np.ndarray) -> np.ndarray:
+def false_ball_boxes(detections: Detections, labelled_boxes: np.ndarray) -> np.ndarray:
     """Boxes (m, 4) [px] of the detector's balls (resolved :class:`Detections`) scored :data:`MIN_SCORE` or more that
     overlap none of ``labelled_boxes`` (n, 4) [px] by :data:`MAX_IOU`."""
     balls = detections[detections.is_ball & (detections.confidence >= MIN_SCORE)]
@@ -39,14 +41,14 @@ def false_ball_boxes(detections, labelled_boxes: np.ndarray) -> np.ndarray:
 
 
 def hard_negative_crops(
-    sources: Sequence[tuple[LabelledImage, dict[int, int] | None]], detector, crop_size: int
+    sources: Sequence[tuple[LabelledImage, dict[int, int] | None]], detector: Detector, crop_size: int
 ) -> np.ndarray:
-    """ "No ball" crops (m, S, S, 3) uint8 of the ``detector``'s false balls on labelled images.
+    """Crops (m, S, S, 3) uint8 of the ``detector``'s false balls on labelled images, for the "no ball" class.
 
     Args:
         sources: labelled images with their class maps (dataset class id -> detector class id; None for a
             ball-only set, all of whose labels are balls).
-        detector: anything with ``detect(rgb) -> Detections`` (raw detections).
+        detector: gives the raw detections of an RGB image.
         crop_size: crop side [px].
     """
     crops = [np.empty((0, crop_size, crop_size, 3), np.uint8)]
