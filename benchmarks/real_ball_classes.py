@@ -96,7 +96,7 @@ def confusion(data: Path, labels: dict, detector) -> dict[str, np.ndarray]:
             pass
         else:
             readings["located"] = locate_balls(fit.camera, det, fit.spec).detections
-            readings["on the table"] = balls_in_play(raw, image, BallSet.AMERICAN, fit).detections
+            readings["on the table"] = balls_in_play(raw, det, image, BallSet.AMERICAN, fit).detections
         for reading, found in readings.items():
             np.add.at(counts[reading], (truth, called_classes(boxes, found)), 1)
     return counts

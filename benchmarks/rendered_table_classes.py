@@ -87,7 +87,7 @@ def main() -> None:
             fitted += 1
             readings = {
                 "located": locate_balls(fit.camera, det, fit.spec).detections,
-                "on the table": balls_in_play(raw, out.image, ball_set, fit).detections,
+                "on the table": balls_in_play(raw, det, out.image, ball_set, fit).detections,
             }
             for reading, found in readings.items():
                 np.add.at(counts[reading], (truth, called_classes(boxes, found)), 1)

@@ -118,6 +118,33 @@ def test_the_eight_is_claimed_among_the_balls_on_the_table():
     assert np.linalg.norm(np.array(eights[0].table_xy_m) - layout.positions[layout.black_index]) < 0.01
 
 
+class CueOffTheTable:
+    """The exact labels without the cue ball, a sure cue ball off the table (a fit gone wrong, or a ball on the
+    floor) and a faint cue reading of an object ball on the table."""
+
+    def __init__(self, cam, layout):
+        self.labels = LabelDetector(cam, layout, drop=(layout.cue_index,))
+        self.cam = cam
+
+    def detect(self, image_rgb):
+        det = self.labels.detect(image_rgb)
+        off = self.cam.project_table(np.array([[-0.3, SPEC.width / 2]]), SPEC.ball_radius)[0]
+        faint = det[det.is_ball][:1]
+        extra = Detections.concatenate(
+            [
+                Detections(np.concatenate([off - 8.0, off + 8.0])[None], np.array([0.6]), np.array([0]), off[None]),
+                Detections(faint.boxes, np.array([0.03]), np.array([0]), faint.contact),
+            ]
+        )
+        return Detections.concatenate([det, extra])
+
+
+def test_a_cue_ball_claimed_on_nothing_after_the_fit_is_no_cue_ball():
+    cam = camera("45")
+    with pytest.raises(ValueError, match="lies off the table"):
+        suggest(blank_image(cam), "solids", CueOffTheTable(cam, example_layout()), NearestPocketPlanner(), SPEC)
+
+
 def test_no_balls_of_any_group():
     cam = camera("45")
     layout = example_layout()

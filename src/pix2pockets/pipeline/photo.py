@@ -22,7 +22,7 @@ from pix2pockets.pipeline.planning import ShotPlanner, default_planner, plan_sho
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
 from pix2pockets.state.ball import BallClass
 from pix2pockets.state.ball_set import BallSet, class_name, group_name, parse_ball_set, parse_group, set_of_group
-from pix2pockets.vision.classes import DETECTION_CAPS, ball_class_of
+from pix2pockets.vision.classes import DETECTION_CAPS, ONE_PER_TABLE, ball_class_of
 from pix2pockets.vision.detect.base import Detector
 from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.detect.postprocess import DEFAULT_NMS_IOU, apply_caps, box_iou, resolve_ball_classes
@@ -267,7 +267,7 @@ def suggest(
     timings["rail_height"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    located = balls_in_play(raw, rgb, chosen, fit, locate_method)
+    located = balls_in_play(raw, det, rgb, chosen, fit, locate_method)
     layout = located.to_layout(spec)
     if layout.cue_index is None:
         raise ValueError(no_cue_ball_reason(det))
@@ -320,15 +320,27 @@ def suggest(
 
 
 def balls_in_play(
-    raw: Detections, rgb: np.ndarray, ball_set: BallSet, fit: TableFit, method: LocateMethod | str = "sphere"
+    raw: Detections,
+    det: Detections,
+    rgb: np.ndarray,
+    ball_set: BallSet,
+    fit: TableFit,
+    method: LocateMethod | str = LocateMethod.SPHERE,
 ) -> LocatedBalls:
-    """The balls on a fitted table: the raw detections on its playing surface (:func:`on_the_table`) post-processed
-    again for the ball set (:func:`clean_detections_for_set`), so that the cue ball and the 8 are claimed among the
-    balls in play (a pocket's mouth or a ball on a rail takes neither from them), then located
-    (:func:`locate_balls`)."""
+    """The balls on a fitted table, located (:func:`locate_balls`).
+
+    The raw detections on its playing surface (:func:`on_the_table`) are post-processed again for the ball set
+    (:func:`clean_detections_for_set`), so that the cue ball and the 8 are claimed among the balls in play: a
+    pocket's mouth or a ball on a rail takes neither from them. Where that names a cue ball or an 8 less surely than
+    its class's floor (:data:`MIN_CONFIDENCE`: the claim would rest on nothing), the photo's balls as post-processed
+    before the fit (``det``) are located instead.
+    """
     spec = fit.spec
     on_table = on_the_table(fit.camera, raw, spec, method, diamond_z=fit.diamond_z)
     in_play, _ = clean_detections_for_set(raw[on_table], rgb, ball_set.value)
+    one_per_table = in_play.is_ball & np.isin(in_play.class_id, ONE_PER_TABLE)
+    if np.any(one_per_table & (in_play.confidence < MIN_CONFIDENCE[in_play.class_id])):
+        in_play = det
     return locate_balls(fit.camera, in_play, spec, method, diamond_z=fit.diamond_z)
 
 
