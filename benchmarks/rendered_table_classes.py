@@ -18,7 +18,6 @@ Usage:
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import time
@@ -37,6 +36,7 @@ from pix2pockets.vision.detect.postprocess import box_iou
 from pix2pockets.vision.locate.balls import locate_balls
 from pix2pockets.vision.table.estimate import estimate_table
 from pix2pockets.vision.table.fit import TableFitError
+from rendered_blackball import render_options, truth_of
 
 MIN_IOU = 0.5
 MISSED = len(BALL_IDS)
@@ -57,12 +57,7 @@ def called_classes(boxes: np.ndarray, found: Detections) -> np.ndarray:
 
 
 def main() -> None:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--n", type=int, default=200, help="renders of each ball set (default 200)")
-    ap.add_argument("--seed", type=int, default=7000, help="first render seed (default 7000)")
-    ap.add_argument("--size", default="960x540", help="render size WxH (default 960x540)")
-    ap.add_argument("--json", default=None, help="write the results here")
-    args = ap.parse_args()
+    args = render_options(__doc__, 200, "renders of each ball set")
 
     size = parse_size(args.size)
     detector = default_detector()
@@ -74,9 +69,7 @@ def main() -> None:
         fitted = 0
         for k in range(args.n):
             out = render(args.seed + k, size, ball_set=ball_set.value)
-            labelled = [b for b in out.labels["balls"] if b["labelled"]]
-            boxes = np.array([b["box_px"] for b in labelled], dtype=float).reshape(-1, 4)
-            truth = np.array([b["class_id"] for b in labelled], dtype=int)
+            truth = truth_of(out.labels)
             raw = detector.detect(out.image)
             det, _ = clean_detections_for_set(raw, out.image, ball_set)
             try:
@@ -90,7 +83,7 @@ def main() -> None:
                 "on the table": balls_in_play(raw, det, out.image, ball_set, fit).detections,
             }
             for reading, found in readings.items():
-                np.add.at(counts[reading], (truth, called_classes(boxes, found)), 1)
+                np.add.at(counts[reading], (truth.class_id, called_classes(truth.boxes, found)), 1)
         report[ball_set.value] = {"fitted": fitted}
         for reading, m in counts.items():
             right = np.diag(m[:, :MISSED])
