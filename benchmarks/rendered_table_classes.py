@@ -31,29 +31,13 @@ from pix2pockets.pipeline.photo import balls_in_play, clean_detections_for_set, 
 from pix2pockets.state.ball_set import BallSet, class_name
 from pix2pockets.synth.renderer import parse_size, render
 from pix2pockets.vision.classes import BALL_IDS, CLASS_NAMES
-from pix2pockets.vision.detect.detections import Detections
-from pix2pockets.vision.detect.postprocess import box_iou
 from pix2pockets.vision.locate.balls import locate_balls
 from pix2pockets.vision.table.estimate import estimate_table
 from pix2pockets.vision.table.fit import TableFitError
+from real_ball_classes import MISSED, called_classes
 from rendered_blackball import render_options, truth_of
 
-MIN_IOU = 0.5
-MISSED = len(BALL_IDS)
 READINGS = ("located", "on the table")
-
-
-def called_classes(boxes: np.ndarray, found: Detections) -> np.ndarray:
-    """For each labelled box (n, 4) [px], the class of the found ball boxing it best (IoU >= :data:`MIN_IOU`), else
-    :data:`MISSED`."""
-    called = np.full(len(boxes), MISSED)
-    balls = found[found.is_ball]
-    if len(balls) and len(boxes):
-        iou = box_iou(boxes, balls.boxes)
-        best = iou.argmax(axis=1)
-        hit = iou[np.arange(len(boxes)), best] >= MIN_IOU
-        called[hit] = balls.class_id[best[hit]]
-    return called
 
 
 def main() -> None:

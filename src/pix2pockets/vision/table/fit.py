@@ -30,7 +30,7 @@ from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.homography import apply_homography, camera_from_homography, fit_homography
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.vision.detect.detections import Detections
-from pix2pockets.vision.table.errors import TableFitError
+from pix2pockets.vision.table.errors import TableFitError, counted
 from pix2pockets.vision.table.outline_camera import MIN_CAMERA_CLEARANCE
 from pix2pockets.vision.table.pixel_aspect import EXPORT_ASPECTS, pixel_aspect_of_balls, snapped_aspect
 from pix2pockets.vision.table.rails import (
@@ -277,7 +277,7 @@ def fit_table(
         raise TableFitError("diamond positions must be finite")
     if len(pts) < MIN_DIAMONDS:
         raise TableFitError(
-            f"too few table points: {len(pts)} diamond{'s' * (len(pts) != 1)} detected, "
+            f"too few table points: {counted(len(pts), 'diamond')} detected, "
             f"need at least {MIN_DIAMONDS} on two rails "
             "(show more of the table: two rails with their sights, not hidden by players or the frame edge)"
         )

@@ -33,7 +33,7 @@ import numpy as np
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.homography import camera_tilt
 from pix2pockets.geometry.table import TableSpec
-from pix2pockets.vision.table.errors import TableFitError
+from pix2pockets.vision.table.errors import TableFitError, counted
 from pix2pockets.vision.table.fit import TableFit, diamond_height, validate_corners
 from pix2pockets.vision.table.outline_camera import (
     CUSHION_WIDTH,
@@ -302,8 +302,8 @@ def fit_outline(
     corners = np.asarray(corners_px, dtype=float).reshape(4, 2)
     seen = np.ones(4, dtype=bool) if seen is None else np.asarray(seen, dtype=bool).reshape(4)
     if seen.sum() < 3:
-        n = int(seen.sum())
-        raise TableFitError(f"no table found: only {n} cushion{'s' * (n != 1)} of the table in view, 3 are needed")
+        n = counted(int(seen.sum()), "cushion")
+        raise TableFitError(f"no table found: only {n} of the table in view, 3 are needed")
     if not np.all(np.isfinite(corners)):
         raise TableFitError("no table found: the cloth outline has no four corners")
     # a camera above the table shows the table frame's corner order with a negative signed area in (u, v)

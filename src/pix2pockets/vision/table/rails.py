@@ -21,7 +21,7 @@ import numpy as np
 
 from pix2pockets.geometry.homography import apply_homography, fit_homography
 from pix2pockets.geometry.table import TableSpec
-from pix2pockets.vision.table.errors import TableFitError
+from pix2pockets.vision.table.errors import TableFitError, counted
 
 RAIL_DIAMONDS: tuple[tuple[int, ...], ...] = ((0, 1, 2, 3, 4, 5), (6, 7, 8), (9, 10, 11, 12, 13, 14), (15, 16, 17))
 """Diamond indices of each rail in ``TableSpec.diamonds`` order: bottom, foot, top, head."""
@@ -280,7 +280,7 @@ def label_candidates(
     if not ranked:
         n = 0 if best is None else best[0]
         raise TableFitError(
-            f"too few table points: {n} diamond{'s' * (n != 1)} could be matched "
+            f"too few table points: {counted(n, 'diamond')} could be matched "
             f"(need {MIN_DIAMONDS} on at least two rails)"
         )
     top = ranked[0][0][0]
