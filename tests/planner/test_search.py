@@ -141,6 +141,8 @@ def test_blackball_success_predicate_matches_its_rules():
         ({"endgame_speeds": (0.0,)}, "endgame_speeds"),
         ({"endgame_sides": (0.45,), "endgame_heights": (0.0, 0.4)}, "tip offsets"),
         ({"rules": "snooker"}, "rules"),
+        ({"two_ply": -1}, "two_ply"),
+        ({"two_ply_outcomes": 0}, "two_ply"),
     ],
 )
 def test_bad_config(kw, match):
@@ -168,9 +170,10 @@ def test_endgame_adds_side_and_finer_strokes():
     assert turn_outcome(on.simulator.simulate(lay, a[0].shot), SOLIDS).shot_succeeded
 
 
-def test_the_default_endgame_starts_with_four_balls_of_the_group_left():
-    # four solids left: the default planner already plays for position with the finer stroke set (side spin)
-    lay = layout([0.4, 0.3], [MID, 0.9], [2.0, 0.3], [1.9, 1.0], [0.7, 1.0], [1.0, 0.6], numbers=[0, 1, 2, 3, 4, 8])
+def test_the_default_endgame_starts_with_five_balls_of_the_group_left():
+    # five solids left: the default planner already plays for position with the finer stroke set (side spin)
+    spots = ([0.4, 0.3], [MID, 0.9], [2.0, 0.3], [1.9, 1.0], [0.7, 1.0], [1.6, 0.5], [1.0, 0.6])
+    lay = layout(*spots, numbers=[0, 1, 2, 3, 4, 5, 8])
     default = SearchPlanner(SearchConfig(**FAST, rescue_below=0.0))
     assert any(s.shot.side != 0 for s in default.suggest(lay, SOLIDS, np.random.default_rng(0)))
     with_two = SearchPlanner(SearchConfig(**FAST, rescue_below=0.0, endgame=2))
@@ -187,3 +190,39 @@ def test_rescue_tries_the_finer_strokes_on_a_hard_shot():
     b = off.suggest(lay, SOLIDS, np.random.default_rng(0))
     assert any(s.shot.side != 0 for s in a) and all(s.shot.side == 0 for s in b)
     assert a[0].success_probability >= b[0].success_probability - 0.2  # the merged ranking keeps good shots
+
+
+def test_next_value_reads_the_next_shot_by_simulation():
+    # solid 1 dropped; the last solid then lies straight in front of a corner pocket, or far off at a thin cut
+    lay = layout([0.5, 0.5], [MID, 0.9], [2.2, 0.3], [1.0, 1.0], [0.3, 1.0], numbers=[0, 1, 2, 9, 8])
+    plan = SearchPlanner(SearchConfig(**FAST))
+    pocket = np.array([-1, 2, -1, -1, -1])
+    sigma = plan.noise.angle_sigma
+    easy = lay.positions.copy()
+    easy[0], easy[2] = [2.0, 0.45], [2.25, 0.2]  # cue ball 0.28 m behind the solid, in line with the corner pocket
+    hard = lay.positions.copy()
+    hard[0], hard[2] = [0.2, 1.05], [2.4, 0.08]  # across the table, the solid near a rail
+    v_easy = plan._next_value(lay, SOLIDS, pocket, easy, sigma)
+    v_hard = plan._next_value(lay, SOLIDS, pocket, hard, sigma)
+    assert 0.0 <= v_hard < v_easy <= 1.0
+    assert v_easy > 0.5
+
+
+def test_next_value_is_a_win_when_the_8_dropped_legally():
+    lay = layout([0.5, 0.5], [MID, 0.9], numbers=[0, 8])
+    plan = SearchPlanner(SearchConfig(**FAST))
+    assert plan._next_value(lay, GameState(Group.SOLIDS), np.array([-1, 4]), lay.positions, 0.002) == 1.0
+
+
+@pytest.mark.parametrize(("two_ply", "called"), [(3, True), (0, False), (1, False)])
+def test_two_ply_runs_only_with_few_balls_left(monkeypatch, two_ply, called):
+    # two solids and the 8 left: two_ply=3 simulates the next shot, 0 (off) and 1 (one ball left) do not
+    lay = layout([0.5, 0.5], [MID, 0.9], [2.0, 0.3], [1.0, 1.0], numbers=[0, 1, 2, 8])
+    plan = SearchPlanner(SearchConfig(**FAST, two_ply=two_ply, two_ply_top=2, two_ply_outcomes=2))
+    calls = []
+    real = plan._next_value
+    monkeypatch.setattr(plan, "_next_value", lambda *a: calls.append(1) or real(*a))
+    best = plan.suggest(lay, SOLIDS, np.random.default_rng(0))[0]
+    assert bool(calls) is called
+    assert len(calls) <= 2 * 2
+    assert best.target in (1, 2)

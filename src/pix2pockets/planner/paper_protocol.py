@@ -149,6 +149,11 @@ def paper_continues(pocket: np.ndarray, layout: TableLayout, state: GameState) -
     return cue_ok & np.any(potted & own[None, :], axis=1) & ~np.any(potted & others[None, :], axis=1)
 
 
+PAPER_SEARCH_EFFORT: dict = {"samples": 8, "refine_samples": 16, "endgame": 4, "two_ply": 0}
+"""The search effort on the paper's environment: it clears every rack there without the two-ply look-ahead (which
+reads our rules' legal balls, not the paper's judgement) and with half the noisy replays."""
+
+
 def paper_search_config() -> dict:
     """:class:`~pix2pockets.planner.search.SearchConfig` overrides for the ``paper`` physics: the paper's
     power levels (its strokes have no spin) and its judgement. Speeds are levels 8, 15, 22 and 30
@@ -162,4 +167,5 @@ def paper_search_config() -> dict:
         "endgame_heights": (0.0,),
         "endgame_sides": (0.0,),
         "rules": "paper",
+        **PAPER_SEARCH_EFFORT,
     }

@@ -92,9 +92,9 @@ class SearchConfig:
 
     physics: str = "event"
     noise: str = "fastfiz"
-    samples: int = 8
+    samples: int = 16
     refine_top: int = 3
-    refine_samples: int = 16
+    refine_samples: int = 32
     prior_weight: float = 2.0
     widen_below: float = 0.8
     speeds: tuple[float, ...] = (1.0, 1.8, 3.0)
@@ -105,7 +105,7 @@ class SearchConfig:
     max_verified: int = 8
     max_cut: float = math.radians(80.0)
     lookahead: float = 2.0
-    endgame: int = 4
+    endgame: int = 5
     endgame_candidates: int = 6
     endgame_speeds: tuple[float, ...] = (0.7, 1.0, 1.4, 1.8, 2.4, 3.0)
     endgame_heights: tuple[float, ...] = (0.0, 0.2, 0.4, -0.2, -0.4)
@@ -114,6 +114,10 @@ class SearchConfig:
     rescue_below: float = 0.9
     time_budget: float | None = 0.5
     rules: str = "8ball"
+    two_ply: int = 3
+    two_ply_top: int = 6
+    two_ply_outcomes: int = 8
+    two_ply_hitpoints: int = 4
     simulator_params: dict = field(default_factory=dict, hash=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -126,6 +130,10 @@ class SearchConfig:
             raise ValueError(f"SearchConfig.speeds must be positive, got {self.speeds}")
         if not self.heights or any(abs(h) > 0.5 for h in self.heights):
             raise ValueError(f"SearchConfig.heights must lie in [-0.5, 0.5], got {self.heights}")
+        if self.two_ply < 0 or self.two_ply_top < 1 or self.two_ply_outcomes < 1 or self.two_ply_hitpoints < 1:
+            raise ValueError(
+                "SearchConfig needs two_ply >= 0 and two_ply_top, two_ply_outcomes, two_ply_hitpoints >= 1"
+            )
         if self.time_budget is not None and not self.time_budget > 0:
             raise ValueError(f"SearchConfig.time_budget must be positive or None, got {self.time_budget}")
         if self.lookahead < 0:
@@ -160,12 +168,16 @@ class _Stroke:
     score: float = 0.0
     prior_p: float = 1.0
     prior_weight: float = 0.0
+    outcomes: list = field(default_factory=list)
+    deep: float | None = None
 
     @property
     def ev(self) -> float:
         """Mean score of the clean and noisy runs, the success part shrunk toward the aim-fan prior."""
         if not self.runs:
             return self.clean
+        if self.deep is not None:
+            return self.p * self.deep
         value = self.score / max(self.successes, 1) if self.successes else self.clean
         return self.p * 0.5 * (value + self.clean)
 
@@ -245,7 +257,51 @@ class SearchPlanner:
                 more, rest2 = self._verify(extra, layout, state, z, sigma, 1)
                 verified = sorted(verified + more, key=lambda s: (-s.ev, -s.p))
                 rest += rest2
+        if len(targets) <= cfg.two_ply:
+            verified = self._two_ply(verified, layout, state, sigma)
         return [self._suggestion(s) for s in verified + rest]
+
+    def _two_ply(self, verified: list[_Stroke], layout, state, sigma) -> list[_Stroke]:
+        """Re-value the best verified strokes by simulating the next shot from where their successful replays
+        left the balls; with a time budget, only the strokes done in time are re-valued (all or none)."""
+        cfg = self.config
+        top = verified[: cfg.two_ply_top]
+        deep: list[float | None] = []
+        for s in top:
+            if time.perf_counter() > self._deadline:
+                return verified
+            values = [self._next_value(layout, state, pr, fr, sigma) for pr, fr in s.outcomes]
+            deep.append(1.0 + cfg.lookahead * float(np.mean(values)) if values else None)
+        if time.perf_counter() > self._deadline:  # the last strokes' fans may have been cut short
+            return verified
+        for s, d in zip(top, deep, strict=True):
+            s.deep = d
+        return sorted(top, key=lambda s: (-s.ev, -s.p)) + verified[cfg.two_ply_top :]
+
+    def _next_value(self, layout, state, pocket_row, final_row, sigma) -> float:
+        """Simulated next-shot value: best aim-fan robustness x clean value over the next shot's strokes."""
+        keep = pocket_row < 0
+        balls = [b for b, k in zip(layout.balls, keep, strict=True) if k]
+        if not any(b.ball_class is BallClass.BLACK for b in balls) and layout.black_index is not None:
+            return 1.0
+        try:
+            nxt = TableLayout(tuple(balls), final_row[keep], layout.spec)
+        except ValueError:
+            return self._value(layout, state, pocket_row, final_row, sigma)
+        if nxt.cue_index is None:
+            return 0.0
+        targets = legal_targets(nxt, state)
+        if not targets:
+            return 0.0
+        half_contact = 0.5 * nxt.spec.cue_contact_distance
+        hps = find_hitpoints(nxt, targets, kinds=self.config.kinds, max_cut=self.config.max_cut)
+        if not hps:
+            return 0.0
+        priors = [pot_probability(h, half_contact, sigma) for h in hps]
+        order = sorted(range(len(hps)), key=lambda i: -priors[i])[: self.config.two_ply_hitpoints]
+        strokes = self._fan([hps[i] for i in order], nxt, state, sigma)
+        best = max((_angle_p(s.margin, sigma) * s.clean for s in strokes), default=0.0)
+        return best / (1.0 + self.config.lookahead)
 
     def _verify(self, strokes, layout, state, z, sigma, scale: int) -> tuple[list[_Stroke], list[_Stroke]]:
         """Noisy replays of the most promising strokes: (verified ranked by value, the rest)."""
@@ -363,6 +419,8 @@ class SearchPlanner:
                 s.runs += 1
                 if ok[row]:
                     s.successes += 1
+                    if self.config.two_ply and len(s.outcomes) < self.config.two_ply_outcomes:
+                        s.outcomes.append((pocket[row], final[row]))
                     if time.perf_counter() < self._deadline:
                         v = self._value(layout, state, pocket[row], final[row], sigma)
                     else:
