@@ -16,7 +16,11 @@
    hitpoints are also expanded over a finer stroke set (more speeds and tip heights, side spin) and twice
    as many strokes are verified: cue-ball control decides the run-out there. Elsewhere, when the best
    verified stroke succeeds less often than ``rescue_below``, the same finer set is tried and merged.
-5. **Fallback**: with no pot, shots at the legal balls over a range of cut offsets are tried; failing
+5. **Two-ply look-ahead**: with at most ``two_ply`` legal balls left, the best ``two_ply_top`` verified strokes
+   are valued again: from where up to ``two_ply_outcomes`` of their successful replays left the balls, the next
+   shot's best ``two_ply_hitpoints`` hitpoints get an aim fan, and the best stroke's robustness x clean value
+   replaces the geometric next-shot value. The last balls' position play then rests on simulated next shots.
+6. **Fallback**: with no pot, shots at the legal balls over a range of cut offsets are tried; failing
    that, a legal safety (own ball first, no foul) or a plain shot at the nearest legal ball.
 
 The paper's 1-ball task (only the cue ball on the table) pots the cue ball: the aim fan and the noisy
@@ -87,6 +91,11 @@ class SearchConfig:
             8 only when it wins), ``blackball`` (the same, and no opponent's ball down: WEPF rules,
             :mod:`pix2pockets.rules.blackball`) or ``paper`` (the paper's judgement: own balls drop and neither the
             cue ball, the 8 nor an opponent's ball does; see :mod:`pix2pockets.planner.paper_protocol`).
+        two_ply: with at most this many legal balls left, the best strokes are valued by simulating the next
+            shot (two-ply look-ahead); 0 turns this off.
+        two_ply_top: verified strokes valued that way.
+        two_ply_outcomes: successful noisy replays per stroke whose end positions are searched.
+        two_ply_hitpoints: next-shot hitpoints given an aim fan per end position.
         simulator_params: keyword parameters for the simulator backend.
     """
 
