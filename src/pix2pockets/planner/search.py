@@ -272,7 +272,7 @@ class SearchPlanner:
 
     def _two_ply(self, verified: list[_Stroke], layout, state, sigma) -> list[_Stroke]:
         """Re-value the best verified strokes by simulating the next shot from where their successful replays
-        left the balls; with a time budget, only the strokes done in time are re-valued (all or none)."""
+        left the balls. Under a time budget all of them are re-valued or, when time runs out, none."""
         cfg = self.config
         top = verified[: cfg.two_ply_top]
         deep: list[float | None] = []
