@@ -237,18 +237,15 @@ class SearchPlanner:
         targets = legal_targets(layout, state)
         if not targets:
             return [fallback_shot(layout, state, cfg.speeds[0])]
-        half_contact = 0.5 * layout.spec.cue_contact_distance  # the ball radius, unless the cue ball is smaller
-        hps = find_hitpoints(layout, targets, kinds=cfg.kinds, max_cut=cfg.max_cut)
-        priors = [pot_probability(h, half_contact, sigma) for h in hps]
-        order = sorted(range(len(hps)), key=lambda i: -priors[i])
+        ranked = self._ranked_hitpoints(layout, targets, sigma)
         endgame = len(targets) <= cfg.endgame
         strokes: list[_Stroke] = []
         if endgame:  # few balls left: position play decides the run-out; finer stroke control, more samples
-            strokes += self._fan([hps[i] for i in order[: cfg.endgame_candidates]], layout, state, sigma, True)
+            strokes += self._fan(ranked[: cfg.endgame_candidates], layout, state, sigma, True)
         lo, hi = (cfg.endgame_candidates, 2 * cfg.max_candidates) if endgame else (0, cfg.max_candidates)
         rounds = 0
-        while lo < len(order) and time.perf_counter() < self._deadline:
-            strokes += self._fan([hps[i] for i in order[lo:hi]], layout, state, sigma)
+        while lo < len(ranked) and time.perf_counter() < self._deadline:
+            strokes += self._fan(ranked[lo:hi], layout, state, sigma)
             lo, hi, rounds = hi, 3 * hi, rounds + 1  # widen: the next candidates, more of them
             best = max((_angle_p(s.margin, sigma) for s in strokes), default=0.0)
             if strokes and (best >= cfg.widen_below or rounds >= 2):
@@ -261,7 +258,7 @@ class SearchPlanner:
         half_left = tb is None or self._deadline - time.perf_counter() > 0.5 * tb  # the pass costs about that
         if not endgame and verified[0].p < cfg.rescue_below and half_left:
             # a hard shot: the finer endgame stroke set on the best hitpoints may find a safer stroke
-            extra = self._fan([hps[i] for i in order[: cfg.endgame_candidates]], layout, state, sigma, True)
+            extra = self._fan(ranked[: cfg.endgame_candidates], layout, state, sigma, True)
             if extra:
                 more, rest2 = self._verify(extra, layout, state, z, sigma, 1)
                 verified = sorted(verified + more, key=lambda s: (-s.ev, -s.p))
@@ -302,15 +299,18 @@ class SearchPlanner:
         targets = legal_targets(nxt, state)
         if not targets:
             return 0.0
-        half_contact = 0.5 * nxt.spec.cue_contact_distance
-        hps = find_hitpoints(nxt, targets, kinds=self.config.kinds, max_cut=self.config.max_cut)
-        if not hps:
-            return 0.0
-        priors = [pot_probability(h, half_contact, sigma) for h in hps]
-        order = sorted(range(len(hps)), key=lambda i: -priors[i])[: self.config.two_ply_hitpoints]
-        strokes = self._fan([hps[i] for i in order], nxt, state, sigma)
+        ranked = self._ranked_hitpoints(nxt, targets, sigma)
+        strokes = self._fan(ranked[: self.config.two_ply_hitpoints], nxt, state, sigma)
         best = max((_angle_p(s.margin, sigma) * s.clean for s in strokes), default=0.0)
         return best / (1.0 + self.config.lookahead)
+
+    def _ranked_hitpoints(self, layout: TableLayout, targets: list[int], sigma: float) -> list[Hitpoint]:
+        """Hitpoints at ``targets``, the likeliest pot under aim noise ``sigma`` [rad] first."""
+        half_contact = 0.5 * layout.spec.cue_contact_distance  # the ball radius, unless the cue ball is smaller
+        hps = find_hitpoints(layout, targets, kinds=self.config.kinds, max_cut=self.config.max_cut)
+        priors = [pot_probability(h, half_contact, sigma) for h in hps]
+        order = sorted(range(len(hps)), key=lambda i: -priors[i])
+        return [hps[i] for i in order]
 
     def _verify(self, strokes, layout, state, z, sigma, scale: int) -> tuple[list[_Stroke], list[_Stroke]]:
         """Noisy replays of the most promising strokes: (verified ranked by value, the rest)."""
