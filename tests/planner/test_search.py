@@ -143,6 +143,10 @@ def test_blackball_success_predicate_matches_its_rules():
         ({"rules": "snooker"}, "rules"),
         ({"two_ply": -1}, "two_ply"),
         ({"two_ply_outcomes": 0}, "two_ply"),
+        ({"two_ply_samples": -1}, "two_ply_samples"),
+        ({"two_ply_verified": 0}, "two_ply_verified"),
+        ({"two_ply_samples": 9, "samples": 4, "refine_samples": 4}, "two_ply_samples"),
+        ({"two_ply_weight": -1.0}, "two_ply_weight"),
     ],
 )
 def test_bad_config(kw, match):
@@ -204,6 +208,26 @@ def test_next_value_reads_the_next_shot_by_simulation():
     hard[0], hard[2] = [0.2, 1.05], [2.4, 0.08]  # across the table, the solid near a rail
     v_easy = plan._next_value(lay, SOLIDS, pocket, easy, sigma)
     v_hard = plan._next_value(lay, SOLIDS, pocket, hard, sigma)
+    assert 0.0 <= v_hard < v_easy <= 1.0
+    assert v_easy > 0.5
+
+
+def test_next_value_from_replays_of_the_next_shot(monkeypatch):
+    # the same two positions, the next shot's best strokes replayed under noise instead of read off the aim fan
+    lay = layout([0.5, 0.5], [MID, 0.9], [2.2, 0.3], [1.0, 1.0], [0.3, 1.0], numbers=[0, 1, 2, 9, 8])
+    plan = SearchPlanner(SearchConfig(**FAST, two_ply_samples=8, two_ply_verified=2))
+    plan._z = np.random.default_rng(0).standard_normal((8, 5))
+    replays = []
+    real = plan._replay
+    monkeypatch.setattr(plan, "_replay", lambda st, *a, **k: replays.append(len(st)) or real(st, *a, **k))
+    pocket = np.array([-1, 2, -1, -1, -1])
+    easy = lay.positions.copy()
+    easy[0], easy[2] = [2.0, 0.45], [2.25, 0.2]
+    hard = lay.positions.copy()
+    hard[0], hard[2] = [0.2, 1.05], [2.4, 0.08]
+    v_easy = plan._next_value(lay, SOLIDS, pocket, easy, plan.noise.angle_sigma)
+    v_hard = plan._next_value(lay, SOLIDS, pocket, hard, plan.noise.angle_sigma)
+    assert replays and all(n <= 2 for n in replays)  # at most two_ply_verified strokes replayed per position
     assert 0.0 <= v_hard < v_easy <= 1.0
     assert v_easy > 0.5
 

@@ -96,6 +96,10 @@ class SearchConfig:
         two_ply_top: verified strokes valued that way.
         two_ply_outcomes: successful noisy replays per stroke whose end positions are searched.
         two_ply_hitpoints: next-shot hitpoints given an aim fan per end position.
+        two_ply_samples: noisy replays of the next shot's best ``two_ply_verified`` strokes per end position
+            (their measured success replaces the aim-fan estimate); 0 values the next shot by its aim fan only.
+        two_ply_verified: next-shot strokes replayed per end position.
+        two_ply_weight: weight of the simulated next-shot value; ``None`` takes ``lookahead``.
         simulator_params: keyword parameters for the simulator backend.
     """
 
@@ -127,6 +131,9 @@ class SearchConfig:
     two_ply_top: int = 6
     two_ply_outcomes: int = 8
     two_ply_hitpoints: int = 4
+    two_ply_samples: int = 8
+    two_ply_verified: int = 2
+    two_ply_weight: float | None = 8.0
     simulator_params: dict = field(default_factory=dict, hash=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -143,6 +150,15 @@ class SearchConfig:
             raise ValueError(
                 "SearchConfig needs two_ply >= 0 and two_ply_top, two_ply_outcomes, two_ply_hitpoints >= 1"
             )
+        if self.two_ply_samples < 0 or self.two_ply_verified < 1:
+            raise ValueError("SearchConfig needs two_ply_samples >= 0 and two_ply_verified >= 1")
+        if self.two_ply_samples > self.samples + self.refine_samples:
+            raise ValueError(
+                f"SearchConfig.two_ply_samples ({self.two_ply_samples}) cannot exceed samples + refine_samples "
+                f"({self.samples + self.refine_samples}): the next shot reuses the decision's noise draws"
+            )
+        if self.two_ply_weight is not None and self.two_ply_weight < 0:
+            raise ValueError(f"SearchConfig.two_ply_weight must be >= 0 or None, got {self.two_ply_weight}")
         if self.time_budget is not None and not self.time_budget > 0:
             raise ValueError(f"SearchConfig.time_budget must be positive or None, got {self.time_budget}")
         if self.lookahead < 0:
@@ -218,6 +234,7 @@ class SearchPlanner:
         self.name = "search"
         self._judge = judge_for("blackball" if self.config.rules == "blackball" else "american")
         self._deadline = math.inf
+        self._z = np.zeros((0, 5))
 
     # ------------------------------------------------------------------ api
     def suggest(
@@ -232,6 +249,7 @@ class SearchPlanner:
             raise ValueError("cannot plan a shot: the layout has no cue ball")
         sigma = max(self.noise.angle_sigma, _MIN_SIGMA)
         z = rng.standard_normal((cfg.samples + cfg.refine_samples, 5))
+        self._z = z
         if lone_cue(layout):
             return self._pot_cue(layout, state, z, sigma)
         targets = legal_targets(layout, state)
@@ -277,7 +295,8 @@ class SearchPlanner:
             if time.perf_counter() > self._deadline:
                 return verified
             values = [self._next_value(layout, state, pr, fr, sigma) for pr, fr in s.outcomes]
-            deep.append(1.0 + cfg.lookahead * float(np.mean(values)) if values else None)
+            weight = cfg.lookahead if cfg.two_ply_weight is None else cfg.two_ply_weight
+            deep.append(1.0 + weight * float(np.mean(values)) if values else None)
         if time.perf_counter() > self._deadline:  # the last strokes' fans may have been cut short
             return verified
         for s, d in zip(top, deep, strict=True):
@@ -300,9 +319,19 @@ class SearchPlanner:
         if not targets:
             return 0.0
         ranked = self._ranked_hitpoints(nxt, targets, sigma)
-        strokes = self._fan(ranked[: self.config.two_ply_hitpoints], nxt, state, sigma)
-        best = max((_angle_p(s.margin, sigma) * s.clean for s in strokes), default=0.0)
-        return best / (1.0 + self.config.lookahead)
+        cfg = self.config
+        strokes = self._fan(ranked[: cfg.two_ply_hitpoints], nxt, state, sigma)
+        z = self._z[: cfg.two_ply_samples]
+        if len(z) and strokes and not self.noise.is_zero:
+            strokes.sort(key=lambda s: -s.clean * _angle_p(s.margin, sigma))
+            strokes = strokes[: cfg.two_ply_verified]
+            for s in strokes:
+                s.prior_p, s.prior_weight = _angle_p(s.margin, sigma), cfg.prior_weight
+            self._replay(strokes, nxt, state, z, sigma, keep_outcomes=False)
+            best = max(s.ev for s in strokes)
+        else:
+            best = max((_angle_p(s.margin, sigma) * s.clean for s in strokes), default=0.0)
+        return best / (1.0 + cfg.lookahead)
 
     def _ranked_hitpoints(self, layout: TableLayout, targets: list[int], sigma: float) -> list[Hitpoint]:
         """Hitpoints at ``targets``, the likeliest pot under aim noise ``sigma`` [rad] first."""
@@ -413,7 +442,9 @@ class SearchPlanner:
                 out.append(stroke)
         return out
 
-    def _replay(self, strokes: list[_Stroke], layout, state, z: np.ndarray, sigma: float) -> None:
+    def _replay(
+        self, strokes: list[_Stroke], layout, state, z: np.ndarray, sigma: float, keep_outcomes: bool = True
+    ) -> None:
         """Noisy executions of the verified strokes with shared draws ``z``."""
         if self.noise.is_zero or len(z) == 0 or not strokes or time.perf_counter() > self._deadline:
             return
@@ -428,7 +459,7 @@ class SearchPlanner:
                 s.runs += 1
                 if ok[row]:
                     s.successes += 1
-                    if self.config.two_ply and len(s.outcomes) < self.config.two_ply_outcomes:
+                    if keep_outcomes and self.config.two_ply and len(s.outcomes) < self.config.two_ply_outcomes:
                         s.outcomes.append((pocket[row], final[row]))
                     if time.perf_counter() < self._deadline:
                         v = self._value(layout, state, pocket[row], final[row], sigma)
