@@ -18,8 +18,9 @@
    verified stroke succeeds less often than ``rescue_below``, the same finer set is tried and merged.
 5. **Two-ply look-ahead**: with at most ``two_ply`` legal balls left, the best ``two_ply_top`` verified strokes
    are valued again: from where up to ``two_ply_outcomes`` of their successful replays left the balls, the next
-   shot's best ``two_ply_hitpoints`` hitpoints get an aim fan, and the best stroke's robustness x clean value
-   replaces the geometric next-shot value. The last balls' position play then rests on simulated next shots.
+   shot's best ``two_ply_hitpoints`` hitpoints get an aim fan, its best ``two_ply_verified`` strokes get
+   ``two_ply_samples`` noisy replays, and the best of them (success x value) replaces the geometric next-shot
+   value, weighted ``two_ply_weight``. The last balls' position play then rests on simulated next shots.
 6. **Fallback**: with no pot, shots at the legal balls over a range of cut offsets are tried; failing
    that, a legal safety (own ball first, no foul) or a plain shot at the nearest legal ball.
 
