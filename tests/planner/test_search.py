@@ -202,7 +202,7 @@ def test_next_value_reads_the_next_shot_by_simulation(monkeypatch, two_ply_sampl
     # 0: the next shot is read off its aim fan; 8: its best two strokes are replayed under noise as well
     lay = layout([0.5, 0.5], [MID, 0.9], [2.2, 0.3], [1.0, 1.0], [0.3, 1.0], numbers=[0, 1, 2, 9, 8])
     plan = SearchPlanner(SearchConfig(**FAST, two_ply_samples=two_ply_samples, two_ply_verified=2))
-    plan._z = np.random.default_rng(0).standard_normal((8, 5))
+    z = np.random.default_rng(0).standard_normal((8, 5))
     replays = []
     real = plan._replay
     monkeypatch.setattr(plan, "_replay", lambda st, *a, **k: replays.append(len(st)) or real(st, *a, **k))
@@ -211,8 +211,8 @@ def test_next_value_reads_the_next_shot_by_simulation(monkeypatch, two_ply_sampl
     easy[0], easy[2] = [2.0, 0.45], [2.25, 0.2]  # cue ball 0.28 m behind the solid, in line with the corner pocket
     hard = lay.positions.copy()
     hard[0], hard[2] = [0.2, 1.05], [2.4, 0.08]  # across the table, the solid near a rail
-    v_easy = plan._next_value(lay, SOLIDS, pocket, easy, plan.noise.angle_sigma)
-    v_hard = plan._next_value(lay, SOLIDS, pocket, hard, plan.noise.angle_sigma)
+    v_easy = plan._next_value(lay, SOLIDS, pocket, easy, plan.noise.angle_sigma, z)
+    v_hard = plan._next_value(lay, SOLIDS, pocket, hard, plan.noise.angle_sigma, z)
     assert bool(replays) is bool(two_ply_samples)
     assert all(n <= 2 for n in replays)  # at most two_ply_verified strokes replayed per position
     assert 0.0 <= v_hard < v_easy <= 1.0

@@ -100,7 +100,7 @@ class SearchConfig:
         two_ply_samples: noisy replays of the next shot's best ``two_ply_verified`` strokes per end position
             (their measured success replaces the aim-fan estimate); 0 values the next shot by its aim fan only.
         two_ply_verified: next-shot strokes replayed per end position.
-        two_ply_weight: weight of the simulated next-shot value; ``None`` takes ``lookahead``.
+        two_ply_weight: weight of the simulated next-shot value (``lookahead`` weighs the geometric one).
         simulator_params: keyword parameters for the simulator backend.
     """
 
@@ -134,7 +134,7 @@ class SearchConfig:
     two_ply_hitpoints: int = 4
     two_ply_samples: int = 8
     two_ply_verified: int = 2
-    two_ply_weight: float | None = 8.0
+    two_ply_weight: float = 8.0
     simulator_params: dict = field(default_factory=dict, hash=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -158,8 +158,8 @@ class SearchConfig:
                 f"SearchConfig.two_ply_samples ({self.two_ply_samples}) cannot exceed samples + refine_samples "
                 f"({self.samples + self.refine_samples}): the next shot reuses the decision's noise draws"
             )
-        if self.two_ply_weight is not None and self.two_ply_weight < 0:
-            raise ValueError(f"SearchConfig.two_ply_weight must be >= 0 or None, got {self.two_ply_weight}")
+        if self.two_ply_weight < 0:
+            raise ValueError(f"SearchConfig.two_ply_weight must be >= 0, got {self.two_ply_weight}")
         if self.time_budget is not None and not self.time_budget > 0:
             raise ValueError(f"SearchConfig.time_budget must be positive or None, got {self.time_budget}")
         if self.lookahead < 0:
@@ -235,7 +235,6 @@ class SearchPlanner:
         self.name = "search"
         self._judge = judge_for("blackball" if self.config.rules == "blackball" else "american")
         self._deadline = math.inf
-        self._z = np.zeros((0, 5))
 
     # ------------------------------------------------------------------ api
     def suggest(
@@ -250,7 +249,6 @@ class SearchPlanner:
             raise ValueError("cannot plan a shot: the layout has no cue ball")
         sigma = max(self.noise.angle_sigma, _MIN_SIGMA)
         z = rng.standard_normal((cfg.samples + cfg.refine_samples, 5))
-        self._z = z
         if lone_cue(layout):
             return self._pot_cue(layout, state, z, sigma)
         targets = legal_targets(layout, state)
@@ -283,10 +281,10 @@ class SearchPlanner:
                 verified = sorted(verified + more, key=lambda s: (-s.ev, -s.p))
                 rest += rest2
         if len(targets) <= cfg.two_ply:
-            verified = self._two_ply(verified, layout, state, sigma)
+            verified = self._two_ply(verified, layout, state, z, sigma)
         return [self._suggestion(s) for s in verified + rest]
 
-    def _two_ply(self, verified: list[_Stroke], layout, state, sigma) -> list[_Stroke]:
+    def _two_ply(self, verified: list[_Stroke], layout, state, z: np.ndarray, sigma: float) -> list[_Stroke]:
         """Re-value the best verified strokes by simulating the next shot from where their successful replays
         left the balls. Under a time budget all of them are re-valued or, when time runs out, none."""
         cfg = self.config
@@ -295,17 +293,17 @@ class SearchPlanner:
         for s in top:
             if time.perf_counter() > self._deadline:
                 return verified
-            values = [self._next_value(layout, state, pr, fr, sigma) for pr, fr in s.outcomes]
-            weight = cfg.lookahead if cfg.two_ply_weight is None else cfg.two_ply_weight
-            deep.append(1.0 + weight * float(np.mean(values)) if values else None)
+            values = [self._next_value(layout, state, pr, fr, sigma, z) for pr, fr in s.outcomes]
+            deep.append(1.0 + cfg.two_ply_weight * float(np.mean(values)) if values else None)
         if time.perf_counter() > self._deadline:  # the last strokes' fans may have been cut short
             return verified
         for s, d in zip(top, deep, strict=True):
             s.deep = d
         return sorted(top, key=lambda s: (-s.ev, -s.p)) + verified[cfg.two_ply_top :]
 
-    def _next_value(self, layout, state, pocket_row, final_row, sigma) -> float:
-        """Simulated next-shot value: best aim-fan robustness x clean value over the next shot's strokes."""
+    def _next_value(self, layout, state, pocket_row, final_row, sigma, z: np.ndarray | None = None) -> float:
+        """Simulated next-shot value: the best next stroke's success x clean value, success measured over the
+        first ``two_ply_samples`` noise draws of ``z`` (or, without draws, its aim-fan estimate)."""
         keep = pocket_row < 0
         balls = [b for b, k in zip(layout.balls, keep, strict=True) if k]
         if not any(b.ball_class is BallClass.BLACK for b in balls) and layout.black_index is not None:
@@ -322,12 +320,9 @@ class SearchPlanner:
         ranked = self._ranked_hitpoints(nxt, targets, sigma)
         cfg = self.config
         strokes = self._fan(ranked[: cfg.two_ply_hitpoints], nxt, state, sigma)
-        z = self._z[: cfg.two_ply_samples]
+        z = np.zeros((0, 5)) if z is None else z[: cfg.two_ply_samples]
         if len(z) and strokes and not self.noise.is_zero:
-            strokes.sort(key=lambda s: -s.clean * _angle_p(s.margin, sigma))
-            strokes = strokes[: cfg.two_ply_verified]
-            for s in strokes:
-                s.prior_p, s.prior_weight = _angle_p(s.margin, sigma), cfg.prior_weight
+            strokes = self._shortlist(strokes, cfg.two_ply_verified, sigma)
             self._replay(strokes, nxt, state, z, sigma, keep_outcomes=False)
             best = max(s.ev for s in strokes)
         else:
@@ -342,15 +337,18 @@ class SearchPlanner:
         order = sorted(range(len(hps)), key=lambda i: -priors[i])
         return [hps[i] for i in order]
 
+    def _shortlist(self, strokes: list[_Stroke], n: int, sigma: float) -> list[_Stroke]:
+        """Sort ``strokes`` by aim-fan score (in place) and return the best ``n``, their success prior set."""
+        strokes.sort(key=lambda s: -s.clean * _angle_p(s.margin, sigma))
+        for s in strokes[:n]:
+            s.prior_p, s.prior_weight = _angle_p(s.margin, sigma), self.config.prior_weight
+        return strokes[:n]
+
     def _verify(self, strokes, layout, state, z, sigma, scale: int) -> tuple[list[_Stroke], list[_Stroke]]:
         """Noisy replays of the most promising strokes: (verified ranked by value, the rest)."""
         cfg = self.config
-        strokes.sort(key=lambda s: -s.clean * _angle_p(s.margin, sigma))
         n_verified = cfg.max_verified * scale
-        verified = strokes[:n_verified]
-        for s in verified:
-            s.prior_p = _angle_p(s.margin, sigma)
-            s.prior_weight = cfg.prior_weight
+        verified = self._shortlist(strokes, n_verified, sigma)
         self._replay(verified, layout, state, z[: cfg.samples], sigma)
         verified.sort(key=lambda s: (-s.ev, -s.p))
         self._replay(verified[: cfg.refine_top * scale], layout, state, z[cfg.samples :], sigma)
