@@ -412,3 +412,27 @@ def test_train_table_tiny_run_writes_a_model_the_pipeline_reads(tmp_path, capsys
     assert cues.surface.ndim == 2 and cues.surface.shape[1] == 192 // 4 * 2
     assert main(["train-table", "--out", str(tmp_path / "x")]) == 2  # no data: a clean error
     assert "give at least one --data" in capsys.readouterr().err
+
+
+def test_train_detector_batches_do_not_depend_on_the_loading_processes(toy, tmp_path):
+    torch = pytest.importorskip("torch")
+    pytest.importorskip("onnx", reason="ONNX export needs the onnx package (train extra)")
+    weights = []
+    for workers in (0, 2):
+        out = tmp_path / f"w{workers}"
+        args = ["train-detector", "--data", str(toy), "--out", str(out), "--epochs", "1", "--batch", "2"]
+        args += ["--crop", "64", "--no-pretrained", "--quiet", "--workers", str(workers)]
+        assert main(args) == 0
+        weights.append(torch.load(out / "last.pt", map_location="cpu", weights_only=False)["model"])
+    assert weights[0].keys() == weights[1].keys()
+    assert all(torch.equal(weights[0][k], weights[1][k]) for k in weights[0])
+
+
+def test_train_detector_refuses_a_missing_gpu_and_bad_workers(toy, tmp_path, capsys):
+    torch = pytest.importorskip("torch")
+    base = ["train-detector", "--data", str(toy), "--out", str(tmp_path / "r"), "--quiet"]
+    assert main([*base, "--workers", "-1"]) == 2
+    assert "workers" in capsys.readouterr().err
+    if not torch.cuda.is_available():
+        assert main([*base, "--device", "cuda", "--no-pretrained"]) == 2
+        assert "CUDA" in capsys.readouterr().err

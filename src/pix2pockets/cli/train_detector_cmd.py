@@ -51,6 +51,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     parser.add_argument("--lr", type=float, default=2e-3, help="peak learning rate (default 2e-3)")
     parser.add_argument("--threads", type=int, default=1, help="torch CPU threads (default 1)")
+    parser.add_argument(
+        "--workers", type=int, default=0, help="data-loading processes (default 0: in the training process)"
+    )
+    parser.add_argument("--device", default="cpu", help="cpu, cuda or auto (default cpu)")
     parser.add_argument("--limit", type=int, default=None, help="use only the first N training images")
     parser.add_argument("--checkpoint-minutes", type=float, default=5.0, help="checkpoint interval (default 5)")
     parser.add_argument("--max-minutes", type=float, default=0.0, help="stop, checkpoint and export after this")
@@ -97,6 +101,8 @@ def run(args: argparse.Namespace) -> int:
         batch=args.batch,
         lr=args.lr,
         threads=args.threads,
+        workers=args.workers,
+        device=args.device,
         limit=args.limit,
         balls_fraction=args.balls_fraction,
         balls_repeat=args.balls_repeat,

@@ -48,6 +48,10 @@ class TrainConfig:
         batch: images per step.
         lr: peak AdamW learning rate (cosine decay, linear warm-up).
         threads: torch CPU threads.
+        workers: data-loading processes that build the augmented batches (0: in the training process); the
+            batches are the same for any number.
+        device: ``cpu``, ``cuda`` or ``auto`` (``cuda`` where there is one); on a GPU the forward pass runs in
+            bfloat16.
         limit: use only the first ``limit`` five-class training images (training-size ablation).
         balls_fraction: ball-only images per epoch, as a fraction of the five-class images (at most all of
             them once, unless ``balls_repeat``).
@@ -71,6 +75,8 @@ class TrainConfig:
     batch: int = 8
     lr: float = 2e-3
     threads: int = 1
+    workers: int = 0
+    device: str = "cpu"
     limit: int | None = None
     balls_fraction: float = 0.25
     balls_repeat: bool = False
@@ -85,6 +91,10 @@ class TrainConfig:
             raise ValueError("train-detector needs at least one --data (or --balls) folder")
         if self.epochs < 1 or self.batch < 1 or self.threads < 1:
             raise ValueError("epochs, batch and threads must be >= 1")
+        if self.workers < 0:
+            raise ValueError("workers must be >= 0")
+        if self.device not in ("cpu", "cuda", "auto"):
+            raise ValueError(f"device must be cpu, cuda or auto, not {self.device!r}")
         if self.limit is not None and self.limit < 1:
             raise ValueError("limit must be >= 1")
         if not (self.lr > 0 and 0 <= self.balls_fraction <= 4):
@@ -203,6 +213,29 @@ def _sample(
     )
 
 
+class _EpochBatches(torch.utils.data.Dataset):
+    """The collated batches of one epoch, batch ``b`` built from ``order[b * batch : (b + 1) * batch]``."""
+
+    def __init__(self, cfg: TrainConfig, items: list, order: np.ndarray, epoch: int) -> None:
+        self.cfg, self.items, self.order, self.epoch = cfg, items, order, epoch
+
+    def __len__(self) -> int:
+        return len(self.order) // self.cfg.batch
+
+    def __getitem__(self, b: int) -> dict[str, torch.Tensor]:
+        idx = self.order[b * self.cfg.batch : (b + 1) * self.cfg.batch]
+        rngs = (np.random.default_rng((self.cfg.seed, self.epoch, int(j))) for j in idx)
+        return _collate([_sample(self.cfg, *self.items[j], rng) for j, rng in zip(idx, rngs, strict=True)])
+
+
+def _device(name: str) -> torch.device:
+    if name == "auto":
+        return torch.device("cuda" if torch.cuda.is_available() else "cpu")
+    if name == "cuda" and not torch.cuda.is_available():
+        raise ValueError("--device cuda: torch sees no CUDA device")
+    return torch.device(name)
+
+
 def _new_model(cfg: TrainConfig, resume: bool) -> CenterNet:
     """The network to train. ImageNet trunk weights are read only when nothing else sets them: with ``--init``
     or a resume every weight is overwritten, so the weights package is not needed; the trunk's first layers are
@@ -227,6 +260,7 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
     torch.set_num_threads(cfg.threads)
     torch.manual_seed(cfg.seed)
     main, balls = _load_sources(cfg)
+    device = _device(cfg.device)
     model = _new_model(cfg, resume)
     opt = torch.optim.AdamW([p for p in model.parameters() if p.requires_grad], lr=cfg.lr, weight_decay=1e-4)
     if cfg.init and not resume:
@@ -248,13 +282,14 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
         changed = [
             k
             for k in new
-            if k not in ("epochs", "max_minutes", "checkpoint_minutes", "threads") and old.get(k) != new[k]
+            if k not in ("epochs", "max_minutes", "checkpoint_minutes", "threads", "workers", "device") and old.get(k) != new[k]
         ]
         if changed:
             raise ValueError(f"--resume: settings differ from the checkpoint in {changed}")
         model.load_state_dict(state["model"])
         opt.load_state_dict(state["optimizer"])
         epoch, batch_i, step, trained_s = state["epoch"], state["batch"], state["step"], state["trained_s"]
+    model.to(device)
     log = (out / "train_log.jsonl").open("a")
     started = last_ckpt = time.monotonic()
 
@@ -282,13 +317,20 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
             picks = order_rng.choice(len(balls), n_balls, replace=n_balls > len(balls))
             items += [(balls[i], None) for i in picks]
         order = order_rng.permutation(len(items))
-        while batch_i < steps_per_epoch:
-            idx = order[batch_i * cfg.batch : (batch_i + 1) * cfg.batch]
-            samples = [_sample(cfg, *items[j], np.random.default_rng((cfg.seed, epoch, int(j)))) for j in idx]
-            batch = _collate(samples)
+        batches = torch.utils.data.DataLoader(
+            _EpochBatches(cfg, items, order, epoch),
+            batch_size=None,
+            sampler=range(batch_i, steps_per_epoch),
+            num_workers=cfg.workers,
+            pin_memory=device.type == "cuda",
+        )
+        for batch in batches:
+            batch = {k: v.to(device, non_blocking=True) for k, v in batch.items()}
             for g in opt.param_groups:
                 g["lr"] = _lr_at(step, total, cfg.lr)
-            loss, parts = detector_loss(model(batch["image"]), batch)
+            with torch.autocast(device.type, dtype=torch.bfloat16, enabled=device.type == "cuda"):
+                heads = model(batch["image"])
+            loss, parts = detector_loss(heads.float(), batch)
             opt.zero_grad(set_to_none=True)
             loss.backward()
             torch.nn.utils.clip_grad_norm_(model.parameters(), 10.0)
@@ -323,7 +365,7 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
             epoch, batch_i = epoch + 1, 0
     bar.close()
     checkpoint()
-    model.eval()
+    model.to("cpu").eval()
     path = export_onnx(model, out / ONNX_NAME)
     meta = {
         "config": _comparable(cfg),
