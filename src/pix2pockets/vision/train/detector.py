@@ -279,11 +279,8 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
         state = torch.load(ckpt, map_location="cpu", weights_only=False)
         old = dict(state["config"])
         new = _comparable(cfg)
-        changed = [
-            k
-            for k in new
-            if k not in ("epochs", "max_minutes", "checkpoint_minutes", "threads", "workers", "device") and old.get(k) != new[k]
-        ]
+        free = ("epochs", "max_minutes", "checkpoint_minutes", "threads", "workers", "device")
+        changed = [k for k in new if k not in free and old.get(k) != new[k]]
         if changed:
             raise ValueError(f"--resume: settings differ from the checkpoint in {changed}")
         model.load_state_dict(state["model"])
