@@ -86,6 +86,18 @@ def test_reds_play_as_solids_and_yellows_as_stripes():
     assert named.class_id.tolist() == [SOLID_ID, STRIPE_ID, STRIPE_ID, BLACK_ID, 0]
 
 
+def test_a_red_or_yellow_ball_scores_as_a_ball_whatever_its_class_scores():
+    img, boxes = table_photo(["red", "yellow", "blue", "white"])
+    det = Detections(
+        boxes, np.full(4, 0.2), np.array([2, 3, 2, 0]), (boxes[:, :2] + boxes[:, 2:]) / 2, ball_score=np.full(4, 0.9)
+    )
+    named = blackball_classes(img, det)
+    # red and yellow: the "any ball" score; a ball of another colour and the cue keep their class scores
+    assert named.confidence.tolist() == [0.9, 0.9, 0.2, 0.2]
+    without = blackball_classes(img, Detections(boxes, np.full(4, 0.2), np.array([2, 3, 2, 0])))
+    assert without.confidence.tolist() == [0.2] * 4  # no "any ball" score: the class scores stay
+
+
 def test_a_black_mirroring_the_room_is_found_among_the_yellows():
     img, boxes = table_photo(["yellow"] * 7 + ["pale-black", "white"])
     det = detections(boxes, [2] * 8 + [0])

@@ -233,5 +233,9 @@ def blackball_classes(rgb: np.ndarray, det: Detections) -> Detections:
             class_id[black] = BLACK_ID
     colour = np.full(len(det), NONE)
     colour[objects] = colours
+    # a red or yellow ball's class is its colour: its score is the detector's evidence of a ball there
+    confidence = det.confidence.copy()
+    named = objects[(colours == RED) | (colours == YELLOW)]
+    confidence[named] = np.fmax(confidence[named], det.ball_score[named])
     data = {k: v for k, v in det.data.items() if k != "number_probs"}
-    return replace(det, class_id=class_id, data={**data, BALL_COLOUR: colour})
+    return replace(det, class_id=class_id, confidence=confidence, data={**data, BALL_COLOUR: colour})
