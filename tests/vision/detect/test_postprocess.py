@@ -122,6 +122,15 @@ def test_resolve_gives_cue_by_class_evidence_not_by_detection_confidence():
     assert out.class_id[np.argmax(out.boxes[:, 0])] == 3
 
 
+def test_a_faint_entry_that_is_only_a_cue_does_not_out_claim_a_clear_cue_ball():
+    # ball A: a clear cue ball (cue 0.5) with a little stripe score; B: a pocket's rim scoring only as a cue (0.27)
+    boxes = np.array([_ball(0), _ball(0.5), _ball(100)])
+    det = Detections(boxes, np.array([0.5, 0.1, 0.27]), np.array([0, 3, 0]))
+    out = resolve_ball_classes(det)
+    assert out.class_id[np.argmin(out.boxes[:, 0])] == 0
+    assert out.class_id[np.argmax(out.boxes[:, 0])] != 0
+
+
 def test_a_doubtful_ball_claims_the_cue_only_when_no_sure_ball_does():
     det = Detections(np.array([_ball(0), _ball(100)]), np.array([0.2, 0.9]), np.array([0, 2]))
     assert resolve_ball_classes(det).class_id.tolist().count(0) == 1

@@ -100,6 +100,10 @@ def postprocess(
 
 CLAIM_MIN_SCORE = 0.25
 """Balls whose best class score is below this claim the cue or the 8 only when no surer ball does."""
+CLAIM_SCORE_POWER = 0.5
+"""A ball's claim on the cue or the 8 is its share of that class times its score to this power: a faint entry
+that scores only as a cue (a pocket's rim, a cue's tip) does not out-claim a clear cue ball that also scores a little
+as a stripe, while a half-hidden cue ball still out-claims an open stripe."""
 
 
 def at_most_one_posterior(scores: np.ndarray, absent_odds: float = 1.0) -> np.ndarray:
@@ -133,12 +137,13 @@ def resolve_ball_classes(
     clearly each, once each, and every other ball takes the better of solid and stripe. Diamonds pass through;
     finally the usual caps apply.
 
-    "Most clearly" is the class's share of the ball's class scores, among balls whose best score is at least
-    :data:`CLAIM_MIN_SCORE`: which ball is the cue is a question of class evidence, and a cue ball half
-    hidden by the cue stick is found with less confidence than an open stripe seen from its white pole
-    (doubtful balls only get a class when no sure ball claims it). On the 720p test renders this lifts cue
-    AP50 from 71 to 82 over ranking by score (``docs/benchmarks-detector.md``). The chosen cue ball's
-    confidence is then its :func:`at_most_one_posterior` (cue AP50 +1 to +2 on the test renders).
+    "Most clearly" is the class's share of the ball's class scores, weighed by the square root of that class's
+    score (:data:`CLAIM_SCORE_POWER`), among balls whose best score is at least :data:`CLAIM_MIN_SCORE`: which
+    ball is the cue is a question of class evidence, and a cue ball half hidden by the cue stick is found with less
+    confidence than an open stripe seen from its white pole (doubtful balls only get a class when no sure ball
+    claims it). On the 720p test renders the share lifted cue AP50 from 71 to 82 over ranking by score
+    (``docs/benchmarks-detector.md``); the weight lifts blackball renders' cue AP50 from 94.0 to 95.0. The chosen
+    cue ball's confidence is then its :func:`at_most_one_posterior` (cue AP50 +1 to +2 on the test renders).
 
     Balls are grouped, and the cue and the 8 claimed, by each entry's ``own_score``: a detector that reports
     the cue and the 8 as image-level chances (:func:`pix2pockets.vision.stages.ball_classifier.classified_balls`) is
@@ -175,7 +180,7 @@ def resolve_ball_classes(
     share = S / np.maximum(S.sum(axis=1, keepdims=True), 1e-9)
     sure = S.max(axis=1) >= CLAIM_MIN_SCORE
     for k in ONE_PER_TABLE:  # cue, then black: at most one ball each
-        evidence = np.where(sure, share[:, k], 0.1 * S[:, k] * S[:, k] / best)
+        evidence = np.where(sure, share[:, k] * S[:, k] ** CLAIM_SCORE_POWER, 0.1 * S[:, k] * S[:, k] / best)
         claim = np.where(assigned < 0, evidence, -1.0)
         j = int(np.argmax(claim))
         if claim[j] > 0:
