@@ -148,20 +148,11 @@ def test_bad_rollout_steps(algo: str, options: dict, message: str, tmp_path: Pat
         TrainConfig(algo, "one", steps=10, seed=0, out=str(tmp_path), **options)
 
 
-def test_threads_and_device() -> None:
-    import torch
-
+def test_threads() -> None:
     assert algos.torch_threads(1, cpus=2) == 1
     assert algos.torch_threads(1, cpus=16) == 8
     assert algos.torch_threads(8, cpus=16) == 4
     assert algos.torch_threads(16, cpus=16) == 1
-    assert algos.resolve_device("cpu") == "cpu"
-    assert algos.resolve_device("auto") in ("cpu", "cuda")
-    with pytest.raises(ValueError, match="unknown device"):
-        algos.resolve_device("abacus")
-    if not torch.cuda.is_available():
-        with pytest.raises(ValueError, match="no CUDA GPU"):
-            algos.resolve_device("cuda")
 
 
 @pytest.mark.parametrize("bad", [{"n_envs": 0}, {"threads": 0}])

@@ -86,21 +86,6 @@ def configure_torch(threads: int | None = None, n_envs: int = 1) -> int:
     return n
 
 
-def resolve_device(device: str = "auto") -> str:
-    """``auto`` -> ``cuda`` when torch sees a GPU, else ``cpu``; other names are checked by torch."""
-    import torch
-
-    if device == "auto":
-        return "cuda" if torch.cuda.is_available() else "cpu"
-    try:
-        kind = torch.device(device).type
-    except RuntimeError as err:
-        raise ValueError(f"unknown device {device!r}: {err}") from None
-    if kind == "cuda" and not torch.cuda.is_available():
-        raise ValueError(f"device {device!r}: torch sees no CUDA GPU (use --device auto or cpu)")
-    return device
-
-
 def progress_bar_missing() -> list[str]:
     """Packages SB3's progress bar needs that are not installed (``tqdm``, ``rich``)."""
     return [name for name in ("tqdm", "rich") if importlib.util.find_spec(name) is None]

@@ -29,10 +29,10 @@ from pix2pockets.rl.algos import (
     configure_torch,
     load_model,
     progress_bar_missing,
-    resolve_device,
 )
 from pix2pockets.rl.bundle import AgentMeta, write_meta
 from pix2pockets.rl.envs import EPISODE_KEYS, EnvChoice, make_env
+from pix2pockets.torch_device import resolve_device
 
 CHECKPOINT = "checkpoint.zip"
 FINAL = "model.zip"

@@ -21,6 +21,7 @@ import numpy as np
 import torch
 from tqdm import tqdm
 
+from pix2pockets.torch_device import resolve_device
 from pix2pockets.vision.metrics.yolo_data import LabelledImage, dataset_class_map, load_split, load_splits
 from pix2pockets.vision.train.detector_loss import detector_loss
 from pix2pockets.vision.train.detector_model import CenterNet, ExportWrapper
@@ -228,14 +229,6 @@ class _EpochBatches(torch.utils.data.Dataset):
         return _collate([_sample(self.cfg, *self.items[j], rng) for j, rng in zip(idx, rngs, strict=True)])
 
 
-def _device(name: str) -> torch.device:
-    if name == "auto":
-        return torch.device("cuda" if torch.cuda.is_available() else "cpu")
-    if name == "cuda" and not torch.cuda.is_available():
-        raise ValueError("--device cuda: torch sees no CUDA device")
-    return torch.device(name)
-
-
 def _new_model(cfg: TrainConfig, resume: bool) -> CenterNet:
     """The network to train. ImageNet trunk weights are read only when nothing else sets them: with ``--init``
     or a resume every weight is overwritten, so the weights package is not needed; the trunk's first layers are
@@ -260,7 +253,7 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
     torch.set_num_threads(cfg.threads)
     torch.manual_seed(cfg.seed)
     main, balls = _load_sources(cfg)
-    device = _device(cfg.device)
+    device = torch.device(resolve_device(cfg.device))
     model = _new_model(cfg, resume)
     opt = torch.optim.AdamW([p for p in model.parameters() if p.requires_grad], lr=cfg.lr, weight_decay=1e-4)
     if cfg.init and not resume:

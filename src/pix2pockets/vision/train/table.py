@@ -22,6 +22,7 @@ import torch
 from torch import nn
 from torch.nn import functional as F  # noqa: N812
 
+from pix2pockets.torch_device import resolve_device
 from pix2pockets.vision.table.keypoints import (
     CORNER_CHANNEL,
     DEFAULT_TABLE_MODEL,
@@ -145,12 +146,6 @@ class _Renders(torch.utils.data.Dataset):
         return torch.from_numpy(x), torch.from_numpy(y)
 
 
-def _device(name: str) -> torch.device:
-    if name == "auto":
-        return torch.device("cuda" if torch.cuda.is_available() else "cpu")
-    return torch.device(name)
-
-
 def is_table_export(path: str | Path) -> bool:
     """Whether an ONNX file is a table model (its output is :data:`OUTPUT_NAME`) rather than a detector."""
     from pix2pockets.vision.train.onnx_file import load_onnx_model
@@ -220,7 +215,7 @@ def train_table(cfg: TableTrainConfig, progress: bool = True) -> Path:
     out = Path(cfg.out)
     out.mkdir(parents=True, exist_ok=True)
     torch.manual_seed(cfg.seed)
-    device = _device(cfg.device)
+    device = torch.device(resolve_device(cfg.device))
     train_items = render_items(list(cfg.data), "train")
     valid_items = render_items(list(cfg.data), "valid")
     net = init_network(cfg.init).to(device)
