@@ -51,8 +51,8 @@ class TrainConfig:
         threads: torch CPU threads.
         workers: data-loading processes that build the augmented batches (0: in the training process); the
             batches are the same for any number.
-        device: ``cpu``, ``cuda`` or ``auto`` (``cuda`` where there is one); on a GPU the forward pass runs in
-            bfloat16.
+        device: a torch device name or ``auto`` (``cuda`` where there is one; checked by
+            :func:`~pix2pockets.torch_device.resolve_device`); on a GPU the forward pass runs in bfloat16.
         limit: use only the first ``limit`` five-class training images (training-size ablation).
         balls_fraction: ball-only images per epoch, as a fraction of the five-class images (at most all of
             them once, unless ``balls_repeat``).
@@ -94,8 +94,6 @@ class TrainConfig:
             raise ValueError("epochs, batch and threads must be >= 1")
         if self.workers < 0:
             raise ValueError("workers must be >= 0")
-        if self.device not in ("cpu", "cuda", "auto"):
-            raise ValueError(f"device must be cpu, cuda or auto, not {self.device!r}")
         if self.limit is not None and self.limit < 1:
             raise ValueError("limit must be >= 1")
         if not (self.lr > 0 and 0 <= self.balls_fraction <= 4):
@@ -221,7 +219,7 @@ class _EpochBatches(torch.utils.data.Dataset):
         self.cfg, self.items, self.order, self.epoch = cfg, items, order, epoch
 
     def __len__(self) -> int:
-        return len(self.order) // self.cfg.batch
+        return max(1, len(self.order) // self.cfg.batch)
 
     def __getitem__(self, b: int) -> dict[str, torch.Tensor]:
         idx = self.order[b * self.cfg.batch : (b + 1) * self.cfg.batch]
@@ -248,12 +246,12 @@ def train(cfg: TrainConfig, resume: bool = False, progress: bool = True) -> Path
     Raises:
         ValueError: for missing data, or ``resume`` without a checkpoint of the same settings.
     """
+    device = torch.device(resolve_device(cfg.device))
     out = Path(cfg.out)
     out.mkdir(parents=True, exist_ok=True)
     torch.set_num_threads(cfg.threads)
     torch.manual_seed(cfg.seed)
     main, balls = _load_sources(cfg)
-    device = torch.device(resolve_device(cfg.device))
     model = _new_model(cfg, resume)
     opt = torch.optim.AdamW([p for p in model.parameters() if p.requires_grad], lr=cfg.lr, weight_decay=1e-4)
     if cfg.init and not resume:
