@@ -9,6 +9,7 @@ import pytest
 from pix2pockets.cli.main import main
 from pix2pockets.synth import write_dataset
 from pix2pockets.synth.dataset import parse_split, split_assignment
+from pix2pockets.synth.renderer import RENDERER_VERSION
 
 SIZE = (192, 108)
 
@@ -18,6 +19,7 @@ def test_layout_and_labels(tmp_path):
     manifest = write_dataset(out, 5, seed=2, size=SIZE)
     assert (out / "data.yaml").read_text().count("names: [cue, black, solid, stripe, dot]") == 1
     assert sum(manifest["counts"].values()) == 5
+    assert manifest["renderer_version"] == RENDERER_VERSION
     for item in manifest["images"]:
         img = out / item["image"]
         assert img.exists()

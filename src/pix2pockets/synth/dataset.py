@@ -29,7 +29,7 @@ from pix2pockets.state.ball_set import BallSet
 from pix2pockets.synth.cameras import camera_kinds as camera_kinds_of
 from pix2pockets.synth.labels import yolo_lines
 from pix2pockets.synth.layouts import LAYOUT_MODES
-from pix2pockets.synth.renderer import DEFAULT_SIZE, Render, render, render_views
+from pix2pockets.synth.renderer import DEFAULT_SIZE, RENDERER_VERSION, Render, render, render_views
 from pix2pockets.vision.classes import CLASS_NAMES
 
 SPLITS = ("train", "valid", "test")
@@ -293,6 +293,7 @@ def write_dataset(
             bar.close()
         manifest = {
             "generator": "pix2pockets.synth",
+            "renderer_version": RENDERER_VERSION,
             "seed": seed,
             "n_scenes": n,
             "views": views,

@@ -22,6 +22,11 @@ from pix2pockets.synth.layouts import sample_layout
 from pix2pockets.synth.scene import Scene, sample_scene
 from pix2pockets.synth.textures import digit_bitmaps
 
+RENDERER_VERSION = 3
+"""What a seed draws. The same seed gives the same scene, camera and photo within a version; a change to what a seed
+draws bumps it, so a test set named by its seeds and this version can be rendered again. 1: the first renderer (the
+detector recipe's chunks 101-110); 2: American sets on tables with sights; 3: pub, home and UK builds (plain rails,
+other sights, coin-op tables) and blackball sets."""
 DEFAULT_SIZE = (960, 540)
 TABLE_SIZES = {"9ft": 0.45, "8ft": 0.25, "7ft": 0.25, "6ft": 0.05}
 """Table presets (``geometry.table.TABLE_PRESETS``) and their shares."""
