@@ -32,7 +32,8 @@ def test_suggest_locates_balls_and_plans(view):
     doc = res.to_dict()
     assert doc["image"] == {"width": cam.image_size[0], "height": cam.image_size[1]}
     assert set(doc["table"]) >= {"corners_px", "homography"}
-    assert {"class", "confidence", "bbox_px", "contact_px", "table_xy_m"} <= set(doc["balls"][0])
+    assert {"class", "confidence", "bbox_px", "contact_px", "table_xy_m", "position_sigma_m"} <= set(doc["balls"][0])
+    assert all(0 < b["position_sigma_m"] < 0.05 for b in doc["balls"])
     s = doc["suggestion"]
     assert s["kind"] == "direct"
     assert doc["balls"][s["target_ball"]]["class"] == "solid"
@@ -44,6 +45,16 @@ def test_suggest_locates_balls_and_plans(view):
     np.testing.assert_allclose(c[:, :2] / c[:, 2:], got, atol=2e-3)
     picture = render_result(blank_image(cam), res)
     assert picture.shape[0] > cam.image_size[1] and picture.shape[1] > cam.image_size[0]
+
+
+def test_a_low_view_knows_its_far_balls_less_surely():
+    spread = {}
+    for view in ("top", "front"):
+        cam = camera(view)
+        res = suggest(blank_image(cam), "solids", LabelDetector(cam, example_layout()), NearestPocketPlanner(), SPEC)
+        sigmas = np.array([b.position_sigma_m for b in res.balls])
+        spread[view] = sigmas.max() / sigmas.min()
+    assert spread["top"] < 1.3 < spread["front"]
 
 
 def test_auto_picks_the_better_group_and_top_level_api():

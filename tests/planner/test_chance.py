@@ -80,3 +80,31 @@ def test_bad_arguments(planner, kw):
     layout, shot, _ = straight_in()
     with pytest.raises(ValueError):
         measure_chance(planner, layout, GameState(Group.SOLIDS), shot, **kw)
+
+
+def test_each_ball_can_carry_its_own_position_error(planner):
+    layout, shot, _ = straight_in()
+    state = GameState(Group.SOLIDS)
+    kw = dict(noise=noise_model("pro"), samples=200)
+    iso = measure_chance(planner, layout, state, shot, position_sigma=0.004, rng=np.random.default_rng(3), **kw)
+    same = np.tile(np.eye(2) * 0.004**2, (2, 1, 1))
+    as_cov = measure_chance(planner, layout, state, shot, position_sigma=same, rng=np.random.default_rng(3), **kw)
+    assert as_cov.successes == iso.successes and as_cov.position_sigma == pytest.approx(0.004)
+    # the object ball 1 cm off across the shot line turns a straight pot into a cut; along it, hardly matters
+    u = np.array([np.cos(shot.angle), np.sin(shot.angle)])
+    n = np.array([-u[1], u[0]])
+    sure = np.eye(2) * 1e-8
+    chances = {}
+    for name, axis in (("across", n), ("along", u)):
+        cov = np.stack([sure, np.outer(axis, axis) * 0.01**2 + sure])
+        chances[name] = measure_chance(
+            planner, layout, state, shot, position_sigma=cov, rng=np.random.default_rng(3), **kw
+        ).p
+    assert chances["across"] < chances["along"] - 0.2
+
+
+@pytest.mark.parametrize("cov", [np.zeros((3, 2, 2)), np.full((2, 2, 2), np.nan), np.zeros((2, 2))])
+def test_position_covariances_of_the_wrong_shape_are_refused(planner, cov):
+    layout, shot, _ = straight_in()
+    with pytest.raises(ValueError, match="position covariances"):
+        measure_chance(planner, layout, GameState(Group.SOLIDS), shot, position_sigma=cov)

@@ -28,6 +28,7 @@ from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.detect.postprocess import DEFAULT_NMS_IOU, apply_caps, box_iou, resolve_ball_classes
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.locate.balls import LocatedBalls, LocateMethod, locate_balls, on_the_table
+from pix2pockets.vision.locate.position_error import position_covariances, position_sigmas
 from pix2pockets.vision.stages.ball_classifier import NUMBER_PROBS
 from pix2pockets.vision.stages.ball_colours import BALL_COLOUR, RED, YELLOW, blackball_classes, read_ball_set
 from pix2pockets.vision.stages.ball_numbers import BallNumberReader, assign_numbers
@@ -280,7 +281,8 @@ def suggest(
 
     t = time.perf_counter()
     planner = planner_for_set(planner or default_planner(skill=skill), chosen)
-    advice = plan_shot(layout, wanted if wanted == "auto" else wanted.value, planner, rng)
+    position_cov = position_covariances(fit.camera, layout.positions, spec.ball_radius, fit.rms_px)
+    advice = plan_shot(layout, wanted if wanted == "auto" else wanted.value, planner, rng, position_sigma=position_cov)
     advice = replace(advice, group=group_name(advice.group, chosen))
     timings["plan"] = time.perf_counter() - t
 
@@ -294,9 +296,17 @@ def suggest(
             tuple(float(v) for v in table_to_env_pixels(xy, spec)),
             number,
             chance,
+            round(float(sigma), 4),
         )
-        for c, conf, box, contact, xy, (number, chance) in zip(
-            kept.class_id, kept.confidence, kept.boxes, located.contact_px, layout.positions, read, strict=True
+        for c, conf, box, contact, xy, (number, chance), sigma in zip(
+            kept.class_id,
+            kept.confidence,
+            kept.boxes,
+            located.contact_px,
+            layout.positions,
+            read,
+            position_sigmas(position_cov),
+            strict=True,
         )
     )
     timings["total"] = time.perf_counter() - t0

@@ -6,8 +6,9 @@ returning ranked candidates that carry ``shot``, ``target``, ``pocket``, ``kind`
 
 With the search planner the chance shown is measured (:func:`pix2pockets.planner.chance.measure_chance`):
 the chosen stroke replayed :data:`CHANCE_SAMPLES` times under the player's skill noise, with the balls
-moved by the photo's location error (:data:`PHOTO_POSITION_SIGMA` per axis), and reported with its sample
-size.
+moved by the photo's location error (each ball's own, from the fitted camera and the fit's error,
+:mod:`pix2pockets.vision.locate.position_error`; :data:`PHOTO_POSITION_SIGMA` per axis for a layout without a
+photo), and reported with its sample size.
 """
 
 from __future__ import annotations
@@ -36,8 +37,9 @@ class ShotPlanner(Protocol):
 CHANCE_SAMPLES = 400
 """Sampled executions behind a shown chance (a 95% interval of about +-5 points at 50%)."""
 PHOTO_POSITION_SIGMA = 0.003
-"""Ball-position error of a photo per axis [m]: the shipped detector's median ball error is 1.4-4.2 mm
-(docs/benchmarks-vision.md); a 2-D Gaussian with 3 mm per axis has a median error of 3.5 mm."""
+"""Ball-position error per axis [m] of a layout whose photo is not at hand: the shipped detector's median ball error
+on renders is 1.4-4.2 mm (docs/benchmarks-vision.md); a 2-D Gaussian with 3 mm per axis has a median error of
+3.5 mm."""
 DEFAULT_SKILL = "pro"
 """The skill level the pipeline plans for unless told (FastFiz noise; see ``docs/planner.md``)."""
 
@@ -89,7 +91,7 @@ def shot_chance(
     group: Group,
     shot: Shot,
     samples: int = CHANCE_SAMPLES,
-    position_sigma: float = PHOTO_POSITION_SIGMA,
+    position_sigma: float | np.ndarray = PHOTO_POSITION_SIGMA,
     seed: int = 0,
     target: int | None = None,
     aim_point: np.ndarray | None = None,
@@ -203,13 +205,13 @@ def plan_shot(
     planner: ShotPlanner,
     rng: np.random.Generator | None = None,
     chance_samples: int = CHANCE_SAMPLES,
-    position_sigma: float = PHOTO_POSITION_SIGMA,
+    position_sigma: float | np.ndarray = PHOTO_POSITION_SIGMA,
 ) -> ShotAdvice:
     """Best shot for ``group`` (``solids``, ``stripes`` or ``auto``: the group with the better shot).
 
     The advice's ``success_probability`` is the measured chance of the chosen stroke (``chance_samples``
-    executions under the planner's noise, balls moved by ``position_sigma`` [m] per axis) when the planner
-    simulates; otherwise the planner's own estimate.
+    executions under the planner's noise, balls moved by ``position_sigma`` [m] per axis, or by each ball's position
+    covariance (n, 2, 2) [m^2]) when the planner simulates; otherwise the planner's own estimate.
 
     Raises:
         ValueError: no cue ball, or no ball of the group (and no 8-ball) on the table.
@@ -251,5 +253,7 @@ def plan_shot(
     chance = shot_chance(planner, layout, g, advice.stroke, chance_samples, position_sigma, 0, advice.target_ball, aim)
     if chance is None:
         return advice
-    exact = chance if position_sigma == 0 else shot_chance(planner, layout, g, advice.stroke, chance_samples, 0.0)
+    exact = chance
+    if chance.position_sigma > 0:
+        exact = shot_chance(planner, layout, g, advice.stroke, chance_samples, 0.0)
     return replace(advice, success_probability=chance.p, chance=chance, chance_exact_positions=exact)

@@ -45,6 +45,9 @@ class LocatedBall:
         number: the ball's number 0-15 as read from the photo (:mod:`pix2pockets.vision.stages.ball_numbers`), ``None``
             when not read.
         number_chance: the reader's chance of that number among the numbers of the ball's class.
+        position_sigma_m: how far the ball may be from ``table_xy_m`` along its worst direction (one standard
+            deviation) [m], from the camera and the fit's error (:mod:`pix2pockets.vision.locate.position_error`);
+            ``None`` when unknown.
     """
 
     ball_class: str
@@ -55,6 +58,7 @@ class LocatedBall:
     env_xy_px: tuple[float, float] = (float("nan"), float("nan"))
     number: int | None = None
     number_chance: float | None = None
+    position_sigma_m: float | None = None
 
     @property
     def sure_number(self) -> int | None:
@@ -80,6 +84,7 @@ class LocatedBall:
             "contact_px": [round(v, 2) for v in self.contact_px],
             "table_xy_m": [round(v, 4) for v in self.table_xy_m],
             "env_xy_px": [round(v, 2) for v in self.env_xy_px],
+            "position_sigma_m": self.position_sigma_m,
         }
 
 

@@ -30,7 +30,8 @@ class Chance:
         successes: sampled executions that succeeded.
         samples: sampled executions.
         noise: name of the noise model the executions were drawn from.
-        position_sigma: ball-position error per axis used for the draws [m] (0: positions as given).
+        position_sigma: ball-position error per axis used for the draws [m] (0: positions as given; with an error
+            per ball, the median of the balls' errors along their worst direction).
     """
 
     successes: int
@@ -87,7 +88,7 @@ def measure_chance(
     noise: GaussianNoise | None = None,
     samples: int = 200,
     rng: np.random.Generator | None = None,
-    position_sigma: float = 0.0,
+    position_sigma: float | np.ndarray = 0.0,
     position_draws: int = 20,
     target: int | None = None,
     aim_point: np.ndarray | tuple[float, float] | None = None,
@@ -102,8 +103,9 @@ def measure_chance(
         noise: execution noise (default: the planner's planning noise).
         samples: executions drawn.
         rng: randomness (default: seed 0).
-        position_sigma: Gaussian error per axis of every ball's position [m] (photo location error);
-            the draws are split over ``position_draws`` jittered layouts.
+        position_sigma: Gaussian error per axis of every ball's position [m], or each ball's position covariance
+            (n, 2, 2) [m^2] (the photo's location error, :mod:`pix2pockets.vision.locate.position_error`); the draws
+            are split over ``position_draws`` jittered layouts.
         position_draws: jittered layouts when ``position_sigma`` > 0.
         target: index of the object ball the stroke aims at; with ``aim_point`` the player re-aims on each
             jittered layout (a player aims at the real balls, not at the photo's coordinates).
@@ -112,14 +114,13 @@ def measure_chance(
     """
     if samples < 1:
         raise ValueError(f"samples must be >= 1, got {samples}")
-    if position_sigma < 0:
-        raise ValueError(f"position_sigma must be >= 0, got {position_sigma}")
+    spread = position_spread(position_sigma, len(layout.positions))
     noise = noise if noise is not None else planner.noise
     rng = rng if rng is not None else np.random.default_rng(0)
     z = rng.standard_normal((samples, 5))
-    if position_sigma > 0:
+    if spread is not None:
         groups = np.array_split(np.arange(samples), max(1, min(position_draws, samples)))
-        layouts = [_jitter(layout, position_sigma, rng) for _ in groups]
+        layouts = [_jitter(layout, spread, rng) for _ in groups]
     else:
         groups, layouts = [np.arange(samples)], [layout]
     successes = 0
@@ -129,7 +130,26 @@ def measure_chance(
         rows = np.array([(s.angle, s.speed, s.side, s.height, s.elevation) for s in shots])
         first, pocket, _ = planner._run(lay, rows)
         successes += int(np.count_nonzero(planner._success(first, pocket, lay, state)))
-    return Chance(successes, samples, noise.name, position_sigma)
+    shown = 0.0 if spread is None else float(np.median(np.sqrt(np.linalg.eigvalsh(spread)[:, -1])))
+    return Chance(successes, samples, noise.name, shown)
+
+
+def position_spread(position_sigma: float | np.ndarray, n_balls: int) -> np.ndarray | None:
+    """Each ball's position covariance (n, 2, 2) [m^2] from an error per axis [m] or from covariances; ``None`` for no
+    error.
+
+    Raises:
+        ValueError: a negative error, or covariances of another shape than (n, 2, 2).
+    """
+    if np.ndim(position_sigma) == 0:
+        sigma = float(position_sigma)
+        if not sigma >= 0:
+            raise ValueError(f"position_sigma must be >= 0, got {position_sigma}")
+        return None if sigma == 0 else np.tile(np.eye(2) * sigma**2, (n_balls, 1, 1))
+    cov = np.asarray(position_sigma, dtype=float)
+    if cov.shape != (n_balls, 2, 2) or not np.all(np.isfinite(cov)):
+        raise ValueError(f"position covariances must be finite and of shape ({n_balls}, 2, 2), got {cov.shape}")
+    return cov
 
 
 def _reaim(shot: Shot, layout: TableLayout, moved: TableLayout, target: int | None, aim_point) -> Shot:
@@ -143,11 +163,13 @@ def _reaim(shot: Shot, layout: TableLayout, moved: TableLayout, target: int | No
     return Shot(float(np.arctan2(d[1], d[0])), shot.speed, shot.side, shot.height, shot.elevation)
 
 
-def _jitter(layout: TableLayout, sigma: float, rng: np.random.Generator) -> TableLayout:
-    """The layout with every ball moved by Gaussian noise ``sigma`` per axis [m], kept on the cloth and apart."""
+def _jitter(layout: TableLayout, cov: np.ndarray, rng: np.random.Generator) -> TableLayout:
+    """The layout with each ball moved by Gaussian noise of its covariance (n, 2, 2) [m^2], kept on the cloth and
+    apart."""
     spec = layout.spec
     r = spec.ball_radius
-    pos = layout.positions + rng.normal(0.0, sigma, layout.positions.shape)
+    root = np.linalg.cholesky(cov + np.eye(2) * 1e-18)
+    pos = layout.positions + np.einsum("nij,nj->ni", root, rng.standard_normal(layout.positions.shape))
     pos[:, 0] = np.clip(pos[:, 0], r, spec.length - r)
     pos[:, 1] = np.clip(pos[:, 1], r, spec.width - r)
     for _ in range(10):  # push overlapping pairs apart (rare at photo-error sizes)
