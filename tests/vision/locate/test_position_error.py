@@ -9,6 +9,7 @@ from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.vision.locate.position_error import (
     BALL_CENTRE_SIGMA_PX,
+    FIT_ERROR_SHARE,
     MAX_POSITION_SIGMA,
     POSITION_FLOOR,
     position_covariances,
@@ -43,7 +44,7 @@ def numeric_covariance(camera: PinholeCamera, xy: np.ndarray, pixel_sigma: float
 @pytest.mark.parametrize("rms_px", [0.0, 2.5])
 def test_the_image_error_is_mapped_through_the_camera(camera, rms_px):
     cov = position_covariances(camera, BALLS, R, rms_px)
-    expected = numeric_covariance(camera, BALLS, np.hypot(BALL_CENTRE_SIGMA_PX, rms_px))
+    expected = numeric_covariance(camera, BALLS, np.hypot(BALL_CENTRE_SIGMA_PX, FIT_ERROR_SHARE * rms_px))
     np.testing.assert_allclose(cov, expected, rtol=1e-5)
 
 
@@ -59,7 +60,7 @@ def test_far_balls_of_a_low_view_are_less_sure_and_a_top_view_is_even():
 
 def test_a_shaky_fit_widens_every_ball():
     sure = position_sigmas(position_covariances(low_view(), BALLS, R, 0.5))
-    shaky = position_sigmas(position_covariances(low_view(), BALLS, R, 4.0))
+    shaky = position_sigmas(position_covariances(low_view(), BALLS, R, 12.0))
     assert np.all(shaky > 2 * sure)
 
 
