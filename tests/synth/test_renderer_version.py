@@ -48,6 +48,6 @@ def fingerprint() -> str:
 def test_a_seed_draws_what_its_renderer_version_drew():
     assert RENDERER_VERSION in FINGERPRINTS, "a new RENDERER_VERSION needs its fingerprint here"
     assert fingerprint() == FINGERPRINTS[RENDERER_VERSION], (
-        "the renderer draws other scenes for the same seeds: bump RENDERER_VERSION (and say what changed in its "
-        "docstring), then record the new fingerprint here"
+        "the renderer draws other scenes for the same seeds (a change to it, or to numpy's random streams): bump "
+        "RENDERER_VERSION (and say what changed in its docstring), then record the new fingerprint here"
     )
