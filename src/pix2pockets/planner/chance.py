@@ -168,7 +168,7 @@ def _jitter(layout: TableLayout, cov: np.ndarray, rng: np.random.Generator) -> T
     apart."""
     spec = layout.spec
     r = spec.ball_radius
-    root = np.linalg.cholesky(cov + np.eye(2) * 1e-18)
+    root = np.linalg.cholesky(cov + np.eye(2) * 1e-18)  # a ball known exactly has no Cholesky factor without it
     pos = layout.positions + np.einsum("nij,nj->ni", root, rng.standard_normal(layout.positions.shape))
     pos[:, 0] = np.clip(pos[:, 0], r, spec.length - r)
     pos[:, 1] = np.clip(pos[:, 1], r, spec.width - r)
