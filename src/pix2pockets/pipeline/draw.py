@@ -32,6 +32,10 @@ BALL_COLOURS = {
 }
 """Diagram colours (RGB) by class name: a blackball set's balls are red and yellow."""
 TEXT_BAND = 44  # [px]
+UNSURE = (200, 225, 240)
+UNSURE_SIGMA = 0.01
+"""A ball located less surely than this [m] (``LocatedBall.position_sigma_m``) gets a ring on the diagram two of its
+errors beyond its edge: it may lie anywhere inside."""
 
 
 def _cv2():
@@ -181,6 +185,10 @@ def draw_diagram(result: Suggestion, height: int) -> np.ndarray:
             poly = np.round(raster.table_to_pixels(path)).astype(np.int32).reshape(-1, 1, 2)
             cv2.polylines(img, [poly], False, colour, thick, cv2.LINE_AA)
             _arrow_head(img, poly, colour, 3 * r)
+    for ball, xy in zip(result.balls, result.layout.positions, strict=True):
+        if ball.position_sigma_m is not None and ball.position_sigma_m >= UNSURE_SIGMA:
+            c = tuple(round(v) for v in raster.table_to_pixels(xy))
+            cv2.circle(img, c, r + round(px(2 * ball.position_sigma_m)), UNSURE, 1, cv2.LINE_AA)
     for ball, xy in zip(result.balls, result.layout.positions, strict=True):
         c = tuple(round(v) for v in raster.table_to_pixels(xy))
         colour, striped = _ball_face(ball)
