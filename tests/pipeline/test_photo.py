@@ -2,10 +2,11 @@ import numpy as np
 import pytest
 
 import pix2pockets
+from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.pipeline.draw import render_result
 from pix2pockets.pipeline.photo import load_image, no_cue_ball_reason, suggest
 from pix2pockets.pipeline.result import power_level
-from pix2pockets.state import Shot
+from pix2pockets.state import Ball, Shot, TableLayout
 from pix2pockets.testing import (
     SPEC,
     Candidate,
@@ -55,6 +56,28 @@ def test_a_low_view_knows_its_far_balls_less_surely():
         sigmas = np.array([b.position_sigma_m for b in res.balls])
         spread[view] = sigmas.max() / sigmas.min()
     assert spread["top"] < 1.3 < spread["front"]
+
+
+def corner_view(shift: float, distance: float) -> PinholeCamera:
+    """A top view over the table's centre moved ``shift`` [m] toward its foot, from ``distance`` [m] above."""
+    target = np.array([SPEC.length / 2 + shift, SPEC.width / 2, 0.0])
+    return PinholeCamera.look_at(target + np.array([0.0, 0.0, distance]), target, 700.0, (960, 540))
+
+
+def test_a_table_partly_out_of_the_photo_is_said_and_mostly_out_is_refused():
+    balls = (Ball.numbered(0), Ball.numbered(3), Ball.numbered(8))
+    foot_end = TableLayout(balls, [[2.1, 0.6], [2.35, 0.95], [1.9, 0.35]])
+    cam = corner_view(0.6, 2.0)  # the head end out of the photo
+    res = suggest(blank_image(cam), "solids", LabelDetector(cam, foot_end), NearestPocketPlanner(), SPEC)
+    assert 0.6 < res.table_in_view < 0.95
+    assert res.to_dict()["table"]["in_view"] == pytest.approx(res.table_in_view, abs=1e-3)
+    assert "of the table is out of the photo: balls there are not seen" in res.text
+    whole = camera("top")
+    res = suggest(blank_image(whole), "solids", LabelDetector(whole, foot_end), NearestPocketPlanner(), SPEC)
+    assert res.table_in_view == pytest.approx(1.0) and "out of the photo" not in res.text
+    cam = corner_view(1.8, 2.0)  # two thirds of the table out of the photo
+    with pytest.raises(ValueError, match=r"no table found: only \d+% of the table"):
+        suggest(blank_image(cam), "solids", LabelDetector(cam, foot_end), NearestPocketPlanner(), SPEC)
 
 
 def test_auto_picks_the_better_group_and_top_level_api():

@@ -36,10 +36,14 @@ from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.estimate import estimate_table, outline_used
 from pix2pockets.vision.table.fit import TableFit
 from pix2pockets.vision.table.keypoints import TableModel
+from pix2pockets.vision.table.quad_geometry import share_in_frame
 from pix2pockets.vision.table.rail_height import refine_fit_height
 from pix2pockets.vision.table.surface import SurfaceOutline, surface_outline
 
 MIN_IMAGE_SIDE = 64  # [px]
+MIN_TABLE_IN_VIEW = 0.5
+"""A table fit with less than this share of its playing surface inside the photo is refused: half the table or more
+is out of frame, and no one could place it from what shows."""
 # Minimum confidence per class id (cue, black, solid, stripe, diamond). Cue and black are capped at one
 # detection each by post-processing, so a lower bar costs at most one false ball and keeps a faint cue.
 MIN_CONFIDENCE = np.array([0.15, 0.15, 0.3, 0.3, 0.25])
@@ -258,6 +262,12 @@ def suggest(
     base = table_preset("uk7") if chosen is BallSet.BLACKBALL else None  # 2 in balls measure a UK table
     fit = estimate_table(rgb, det, (w, h), spec, pixel_aspect=det.pixel_aspect, surface=surface, base=base)
     spec = fit.spec
+    in_view = share_in_frame(fit.corners_px, (w, h))
+    if in_view < MIN_TABLE_IN_VIEW:
+        raise ValueError(
+            f"no table found: only {100 * in_view:.0f}% of the table fitted to the photo lies in it, so the fit is "
+            "a guess (show the whole table: its cloth with the four cushions and pockets)"
+        )
     timings["fit"] = time.perf_counter() - t
 
     t = time.perf_counter()
@@ -326,6 +336,7 @@ def suggest(
         float(fit.rms_px) if np.isfinite(fit.rms_px) else None,
         fit_evidence(fit, surface),
         chosen.value,
+        in_view,
     )
 
 

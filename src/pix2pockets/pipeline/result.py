@@ -20,6 +20,8 @@ MIN_SPEED = 0.2  # [m/s] power level 1 (the environment's ActionConfig.min_speed
 MAX_SPEED = 8.0  # [m/s] power level 30 (ActionConfig.max_speed)
 N_POWER_LEVELS = 30
 SURE_NUMBER_CHANCE = 0.5
+WHOLE_TABLE_IN_VIEW = 0.98
+"""Share of the playing surface in the photo from which the whole table counts as seen."""
 """A ball is named and drawn by its number when the reader's chance of it is at least this (the JSON always
 holds the number and its chance)."""
 
@@ -204,6 +206,8 @@ class Suggestion:
         evidence: the cues behind the fit: ``diamonds`` matched, the table model's ``corners`` and ``side_pockets``
             and the ``cushion_lines`` seen (0 without a surface), and the ``cloth_edges``: sides of the table's cloth
             outline moved onto the cloth's edge in the photo.
+        table_in_view: share of the fitted playing surface inside the photo; below :data:`WHOLE_TABLE_IN_VIEW` the
+            text says that part of the table (and any ball there) is not seen.
     """
 
     image_size: tuple[int, int]
@@ -221,6 +225,7 @@ class Suggestion:
     fit_error_px: float | None = None
     evidence: dict = field(default_factory=dict)
     ball_set: str = "american"
+    table_in_view: float = 1.0
 
     @property
     def spec(self) -> TableSpec:
@@ -236,7 +241,11 @@ class Suggestion:
     @property
     def text(self) -> str:
         """One-line description of the shot."""
-        return self.shot.describe(self.balls)
+        text = self.shot.describe(self.balls)
+        if self.table_in_view < WHOLE_TABLE_IN_VIEW:
+            out = 100 * (1 - self.table_in_view)
+            text += f"; {out:.0f}% of the table is out of the photo: balls there are not seen"
+        return text
 
     def to_dict(self) -> dict:
         """The JSON document of ``pix2pockets suggest --json``."""
@@ -260,6 +269,7 @@ class Suggestion:
                 "diamond_height_m": None if self.diamond_height_m is None else round(float(self.diamond_height_m), 5),
                 "diamond_height_measured": bool(self.diamond_height_measured),
                 "pixel_aspect": round(self.pixel_aspect, 4),
+                "in_view": round(float(self.table_in_view), 3),
             },
             "ball_set": self.ball_set,
             "balls": [b.to_dict() for b in self.balls],

@@ -167,3 +167,18 @@ def quad_mask(quad_px: np.ndarray, shape: tuple[int, ...]) -> np.ndarray:
     if np.all(np.isfinite(quad)) and np.abs(quad).max() <= 1e5:
         cv2.fillConvexPoly(mask, np.round(quad * 16).astype(np.int32), 1, shift=4)
     return mask.astype(bool)
+
+
+def share_in_frame(quad: np.ndarray, image_size: tuple[int, int]) -> float:
+    """Share of a convex quadrilateral's area (4, 2) [px] inside the image ``(width, height)``; 0 for a quadrilateral
+    with a corner that does not project (NaN: behind the camera) or no area."""
+    quad = np.asarray(quad, dtype=np.float32).reshape(4, 2)
+    if not np.all(np.isfinite(quad)):
+        return 0.0
+    area = abs(float(cv2.contourArea(quad)))
+    if area <= 0.0:
+        return 0.0
+    w, h = image_size
+    frame = np.array([[0, 0], [w, 0], [w, h], [0, h]], dtype=np.float32)
+    inside, _ = cv2.intersectConvexConvex(quad, frame)
+    return float(min(max(inside / area, 0.0), 1.0))
