@@ -185,12 +185,11 @@ def draw_diagram(result: Suggestion, height: int) -> np.ndarray:
             poly = np.round(raster.table_to_pixels(path)).astype(np.int32).reshape(-1, 1, 2)
             cv2.polylines(img, [poly], False, colour, thick, cv2.LINE_AA)
             _arrow_head(img, poly, colour, 3 * r)
-    for ball, xy in zip(result.balls, result.layout.positions, strict=True):
+    centres = [tuple(round(v) for v in raster.table_to_pixels(xy)) for xy in result.layout.positions]
+    for ball, c in zip(result.balls, centres, strict=True):  # rings first: the balls are drawn over them
         if ball.position_sigma_m is not None and ball.position_sigma_m >= UNSURE_SIGMA:
-            c = tuple(round(v) for v in raster.table_to_pixels(xy))
             cv2.circle(img, c, r + round(px(2 * ball.position_sigma_m)), UNSURE, 1, cv2.LINE_AA)
-    for ball, xy in zip(result.balls, result.layout.positions, strict=True):
-        c = tuple(round(v) for v in raster.table_to_pixels(xy))
+    for ball, c in zip(result.balls, centres, strict=True):
         colour, striped = _ball_face(ball)
         if striped:
             _striped_disc(img, c, r, colour)
