@@ -17,7 +17,7 @@ detections and a photo *has a shot* when it returns one.
 
 Usage:
     PYTHONPATH=src python benchmarks/real_table_corners.py [--data DIR] [--labels FILE] [--table auto|9ft|...]
-        [--tolerance 0.02] [--draw DIR] [--sheet PNG] [--json OUT.json]
+        [--tolerance 0.02] [--table-model ONNX] [--draw DIR] [--sheet PNG] [--json OUT.json]
 """
 
 from __future__ import annotations
@@ -37,6 +37,7 @@ from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.image_io import image_grid, read_image_rgb
 from pix2pockets.vision.table.estimate import estimate_table
 from pix2pockets.vision.table.fit import TableFit, TableFitError
+from pix2pockets.vision.table.keypoints import TableModel
 from pix2pockets.vision.table.outline_camera import CUSHION_WIDTH, outline_rectangle
 from pix2pockets.vision.table.quad_geometry import quad_length, quad_of_point_sets
 
@@ -118,12 +119,16 @@ def main() -> None:
     ap.add_argument(
         "--sheet", type=Path, default=None, help="contact sheet of the phone photos and every tenth video frame"
     )
+    ap.add_argument(
+        "--table-model", default=None, help="table model ONNX to fit with (default: the bundled one; 'none': without)"
+    )
     ap.add_argument("--json", default=None)
     args = ap.parse_args()
 
     spec = None if args.table == "auto" else table_preset(args.table)
     entries = [e for e in json.loads(args.labels.read_text())["photos"] if e["whole_table"]]
     detector = default_detector()
+    table_model = TableModel.from_option(args.table_model) if args.table_model else True
     rows, drawn, seconds = [], [], []
     for entry in entries:
         path = args.data / entry["image"]
@@ -138,7 +143,7 @@ def main() -> None:
         row: dict = {"image": entry["image"]}
         fitted_px = None
         try:
-            surface = read_surface(image, det, True)
+            surface = read_surface(image, det, table_model)
             fit = estimate_table(image, det, size, spec, pixel_aspect=det.pixel_aspect, surface=surface)
         except TableFitError as err:
             row.update(fit=False, error=str(err).split(":")[0], right=False, shot=False)
@@ -156,7 +161,13 @@ def main() -> None:
             )
             if not args.no_shots:
                 try:
-                    suggest(image, detector=CachedDetector(raw), spec=spec, rng=np.random.default_rng(0))
+                    suggest(
+                        image,
+                        detector=CachedDetector(raw),
+                        spec=spec,
+                        rng=np.random.default_rng(0),
+                        table_model=table_model,
+                    )
                     row["shot"] = True
                 except ValueError as err:
                     row.update(shot=False, shot_error=str(err).split(":")[0])

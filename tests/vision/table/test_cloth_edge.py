@@ -9,7 +9,7 @@ import numpy as np
 
 from pix2pockets.geometry import PinholeCamera, TableSpec
 from pix2pockets.vision.detect.analytic import standard_views
-from pix2pockets.vision.table.cloth_edge import cloth_colour, snap_fit, snap_to_cloth_edge
+from pix2pockets.vision.table.cloth_edge import cloth_colour, colour_region, snap_fit, snap_to_cloth_edge
 from pix2pockets.vision.table.outline_camera import camera_through_outline, outline_rectangle
 from pix2pockets.vision.table.outline_fit import fit_outline
 from tests.vision.table.test_cloth import corner_error, draw_table_photo, view
@@ -94,6 +94,32 @@ def test_snap_fit_sharpens_a_fit_that_is_a_few_pixels_off():
     assert corner_error(again.corners_px, sharp.corners_px) < 0.5
 
 
+def test_the_colour_is_read_within_the_fits_own_surface():
+    camera = view("oblique")
+    _img, boxes = draw_table_photo(camera, player=False)
+    truth = true_outline(camera)
+    fit = fit_outline(truth, camera.image_size, SPEC, ball_boxes=boxes)
+    w, h = camera.image_size
+    surface = region(fit.camera.project_table(outline_rectangle(SPEC, 0.0), 0.0), (w, h))
+    leaky = region(grown(truth, 1.3), (w, h))  # the table and the floor round it
+    assert (colour_region(leaky, fit) ^ (leaky & surface)).sum() < 0.02 * surface.sum()
+    elsewhere = np.zeros((h, w), dtype=bool)
+    elsewhere[:40, :40] = True  # a region off the table (a wall): the fit's own surface instead
+    assert (colour_region(elsewhere, fit) ^ surface).sum() < 0.02 * surface.sum()
+
+
+def test_snap_fit_finds_the_cloth_edge_when_the_region_is_off_the_table():
+    camera = view("oblique")
+    img, boxes = draw_table_photo(camera)
+    truth = true_outline(camera)
+    rough = fit_outline(grown(truth, 1.03), camera.image_size, SPEC, ball_boxes=boxes)
+    w, h = camera.image_size
+    wall = np.zeros((h, w), dtype=bool)
+    wall[:40, :40] = True
+    sharp = snap_fit(img, rough, wall, boxes)
+    assert corner_error(sharp.camera.project_table(outline_rectangle(SPEC), SPEC.cushion_height), truth) < 1.5
+
+
 def rolled(camera: PinholeCamera, degrees: float) -> PinholeCamera:
     """The camera turned about its optical axis."""
     a = np.radians(degrees)
@@ -129,7 +155,7 @@ def test_a_view_from_above_gets_a_believable_focal_length():
     as wide sees the cloth as the true one does, the cushion tops 3.6 cm above it a little larger. Moved onto the
     cloth outline alone, such a camera stays low and puts the cloth 19 px too small; with the focal-length floor it
     comes up to a believable height and the cloth lands within a few pixels."""
-    from pix2pockets.vision.table.cloth_edge import MIN_FOCAL, _camera_near
+    from pix2pockets.vision.table.cloth_edge import MIN_FOCAL, camera_onto_outline
 
     true = standard_views(SPEC)["top"]
     w = max(true.image_size)
@@ -139,7 +165,7 @@ def test_a_view_from_above_gets_a_believable_focal_length():
     outline = true_outline(true)
     cloth = true.project_table(outline_rectangle(SPEC, 0.0), 0.0)
     assert near.K[1, 1] < MIN_FOCAL * w and corner_error(true_outline(near), outline) > 5.0
-    moved = _camera_near(near, SPEC, outline, MIN_FOCAL * w)
+    moved = camera_onto_outline(near, SPEC, outline, MIN_FOCAL * w)
     assert moved is not None and moved.K[1, 1] >= 0.45 * w
     assert corner_error(true_outline(moved), outline) < 1.0
     assert corner_error(moved.project_table(outline_rectangle(SPEC, 0.0), 0.0), cloth) < 8.0

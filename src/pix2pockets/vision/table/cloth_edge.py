@@ -37,7 +37,7 @@ from pix2pockets.vision.table.outline_camera import (
     head_rail_convention,
     outline_rectangle,
 )
-from pix2pockets.vision.table.quad_geometry import line_through, quad_length, quad_of_lines, robust_line
+from pix2pockets.vision.table.quad_geometry import line_through, quad_length, quad_mask, quad_of_lines, robust_line
 
 SAMPLES = 96
 """Profiles searched along each side."""
@@ -78,6 +78,8 @@ FOCAL_FLOOR_SIGMA = 0.05
 """Spread of the log focal length below :data:`MIN_FOCAL` allowed when a camera is moved onto the corners."""
 
 
+MIN_REGION_SHARE = 0.5
+"""The surface region must cover this share of a fit's playing surface for the cloth's colour to be read from it."""
 COLOUR_PIXELS = 20_000
 """Most cloth pixels the cloth's colour is read from (every k-th of the region)."""
 
@@ -264,7 +266,8 @@ def snap_fit(rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.nd
     Args:
         rgb: the photo, RGB uint8 (H, W, 3).
         fit: the table fit to move (its cloth outline must lie in front of the camera).
-        mask: the cloth region (H, W) bool the colour is read from (the table model's surface).
+        mask: the cloth region (H, W) bool the colour is read from (the table model's surface), within the fit's
+            playing surface (:func:`colour_region`).
         ball_boxes: ball boxes (n, 4) [px], left out of the colour.
     """
     spec = fit.spec
@@ -276,7 +279,7 @@ def snap_fit(rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.nd
     sides = inside & np.roll(inside, -1)  # side k runs from corner k to k + 1: both ends in the photo
     if not sides.any():
         return fit
-    colour = cloth_colour(rgb, mask, ball_boxes)
+    colour = cloth_colour(rgb, colour_region(mask, fit), ball_boxes)
     reach = min(max(MIN_REACH_PX, FIRST_REACH * quad_length(outline)), MAX_REACH * math.hypot(w, h))
     first = snap_to_cloth_edge(rgb, outline, colour, reach, sides)
     second = snap_to_cloth_edge(rgb, first.corners_px, colour, SECOND_REACH_PX, sides)
@@ -287,13 +290,25 @@ def snap_fit(rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.nd
     corners = second.corners_px if moved else outline
     camera = camera_through_outline(corners, (w, h), spec)
     if camera is None or camera.K[1, 1] < floor:  # none, or one too near: the nearest of a believable focal length
-        camera = _camera_near(camera or fit.camera, spec, corners, floor) or camera
+        camera = camera_onto_outline(camera or fit.camera, spec, corners, floor) or camera
     if camera is None:
         return fit
     return replace(fit, camera=head_rail_convention(camera, spec), cloth_edges=moved)
 
 
-def _camera_near(
+def colour_region(mask: np.ndarray, fit: TableFit) -> np.ndarray:
+    """Where the cloth's colour is read for a fit: the surface region ``mask`` (H, W) bool within the fit's playing
+    surface, or the playing surface alone where the region covers less than :data:`MIN_REGION_SHARE` of it (a region
+    that found a wall or a shirt, beside a fit from the model's corner peaks)."""
+    surface = fit.camera.project_table(outline_rectangle(fit.spec, 0.0), 0.0)
+    inside = quad_mask(surface - 0.5, mask.shape)
+    if not inside.any():
+        return mask
+    own = mask & inside
+    return own if own.sum() >= MIN_REGION_SHARE * inside.sum() else inside
+
+
+def camera_onto_outline(
     camera: PinholeCamera, spec: TableSpec, corners: np.ndarray, focal_floor: float = 0.0
 ) -> PinholeCamera | None:
     """``camera`` moved to see the cloth outline of ``spec`` at ``corners`` (4, 2) [px]: focal length, principal
