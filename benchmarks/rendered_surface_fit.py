@@ -6,12 +6,14 @@ table model and ``estimate_table`` (table size from the balls). The fitted playi
 compared with the render's exact ones, either way round the table; a corner's error is divided by the table's length
 in the photo (the true outline's longer pair of opposite sides). Only corners within the frame count.
 
+``--cloth black,red,burgundy`` keeps only renders of those cloths (the scene is drawn first, without rendering).
+
 A render whose frame shows fewer than three cushions (at least :data:`CUSHION_IN_VIEW` of each cushion's length) does
 not fix the table for a person either; those are counted apart, with how many the estimate refused.
 
 Usage:
     PYTHONPATH=src python benchmarks/rendered_surface_fit.py --n 100 [--seed 5000] [--size 960x540]
-        [--with-sights] [--json OUT.json]
+        [--with-sights] [--cloth NAMES] [--json OUT.json]
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ import numpy as np
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 from pix2pockets.pipeline.photo import clean_detections, default_detector, read_surface
+from pix2pockets.synth.palette import CLOTH_COLOURS
 from pix2pockets.vision.table.estimate import estimate_table
 from pix2pockets.vision.table.fit import TableFitError
 from pix2pockets.vision.table.quad_geometry import quad_length
@@ -49,20 +52,28 @@ def cushions_in_view(corners: np.ndarray, image_size: tuple[int, int], samples: 
 
 
 def main(argv: list[str] | None = None) -> int:
-    from pix2pockets.synth.renderer import render
+    from pix2pockets.synth.renderer import render, scene_of
 
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--n", type=int, default=100, help="renders to fit")
     ap.add_argument("--seed", type=int, default=5000, help="first render seed")
     ap.add_argument("--size", default="960x540")
     ap.add_argument("--with-sights", action="store_true", help="fit renders with sights too (the table model alone)")
+    ap.add_argument("--cloth", default=None, help="only renders of these cloths, comma-separated (e.g. black,red)")
     ap.add_argument("--json")
     args = ap.parse_args(argv)
     size = tuple(int(v) for v in args.size.lower().split("x"))
     detector = default_detector()
+    cloths = None if args.cloth is None else set(args.cloth.split(","))
+    unknown = (cloths or set()) - set(CLOTH_COLOURS)
+    if unknown:
+        raise SystemExit(f"unknown cloth {sorted(unknown)}: choose from {', '.join(sorted(CLOTH_COLOURS))}")
     rows, seconds = [], []
     seed = args.seed
     while len(rows) < args.n:
+        if cloths is not None and scene_of(seed).style["cloth"] not in cloths:
+            seed += 1
+            continue
         out = render(seed, size)
         seed += 1
         labels = out.labels
@@ -76,6 +87,7 @@ def main(argv: list[str] | None = None) -> int:
         row = {
             "seed": seed - 1,
             "build": labels["style"]["build"],
+            "cloth": labels["style"]["cloth"],
             "corners_in_frame": int(inside.sum()),
             "cushions_in_view": cushions_in_view(truth, (w, h)),
         }
@@ -112,6 +124,7 @@ def main(argv: list[str] | None = None) -> int:
         "fitted_with_three_cushions": sum(r["fit"] for r in fixed),
         "fewer_cushions_refused": sum(not r["fit"] for r in unfixed),
         "with_sights": args.with_sights,
+        "cloths": sorted(cloths) if cloths else "all",
         "corner_error_median": float(np.median(errors)) if len(errors) else None,
         "corner_error_p90": float(np.percentile(errors, 90)) if len(errors) else None,
         "right_2pct": sum(bool(r["errors"]) and max(r["errors"]) <= 0.02 for r in fits),
