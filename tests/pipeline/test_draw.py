@@ -1,12 +1,14 @@
-"""The top-down diagram: balls located unsurely carry a ring as wide as their position error."""
+"""The top-down diagram: balls located unsurely carry a ring as wide as their position error; the cloth is drawn in
+the cloth colour nearest the photo's."""
 
 from __future__ import annotations
 
 from dataclasses import replace
 
 import numpy as np
+import pytest
 
-from pix2pockets.pipeline.draw import UNSURE, UNSURE_SIGMA, draw_diagram
+from pix2pockets.pipeline.draw import CLOTH, CLOTH_NAMES, CLOTH_RGB, UNSURE, UNSURE_SIGMA, draw_diagram, photo_cloth
 from pix2pockets.pipeline.photo import suggest
 from pix2pockets.testing import SPEC, LabelDetector, NearestPocketPlanner, blank_image, camera, example_layout
 
@@ -27,3 +29,28 @@ def test_unsure_balls_get_a_ring_and_sure_ones_none():
     changed = np.any(sure != unsure, axis=-1)
     ring_coloured = np.all(np.abs(unsure.astype(int) - UNSURE) <= 30, axis=-1)
     assert (changed & ring_coloured).sum() > 20 * len(res.balls)
+
+
+def located(cam):
+    return suggest(blank_image(cam), "solids", LabelDetector(cam, example_layout()), NearestPocketPlanner(), SPEC)
+
+
+@pytest.mark.parametrize(
+    ("name", "light"), [("red", 0.9), ("black", 1.0), ("tan", 1.2), ("tournament_blue", 0.7), ("green", 0.6)]
+)
+def test_the_diagram_takes_the_cloth_colour_nearest_the_photos(name, light):
+    cam = camera("45")
+    res = located(cam)
+    photo = np.zeros_like(blank_image(cam))
+    photo[:] = np.clip(CLOTH_RGB[CLOTH_NAMES.index(name)] * light, 0, 255).astype(np.uint8)
+    photo[:40] = (250, 250, 250)  # a bright wall outside the table is not read
+    cloth = photo_cloth(photo, res)
+    assert cloth == tuple(int(v) for v in CLOTH_RGB[CLOTH_NAMES.index(name)])
+    diagram = draw_diagram(res, HEIGHT, cloth)
+    assert tuple(diagram[HEIGHT // 2, diagram.shape[1] // 2]) == cloth
+
+
+def test_a_table_fitted_outside_the_photo_keeps_the_default_cloth():
+    cam = camera("top")
+    res = replace(located(cam), corners_px=np.full((4, 2), np.nan))
+    assert photo_cloth(blank_image(cam), res) == CLOTH

@@ -14,12 +14,17 @@ from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.raster import TableRaster
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
 from pix2pockets.synth.palette import BALL_COLOURS as NUMBER_COLOURS
+from pix2pockets.synth.palette import CLOTH_COLOURS
 
 CUE_PATH = (255, 255, 255)
 OBJECT_PATH = (255, 210, 0)
 GHOST = (255, 255, 255)
 TABLE_LINE = (120, 255, 120)
 CLOTH = (22, 92, 150)
+"""Diagram cloth when the photo's cloth is not read."""
+LIGHTNESS_WEIGHT = 0.5
+"""Weight of Lab lightness against hue and chroma when the photo's cloth is matched to a cloth colour: the light over
+a table changes how bright its cloth looks more than its hue."""
 RAIL = (92, 56, 30)
 POCKET = (15, 15, 15)
 BALL_COLOURS = {
@@ -156,8 +161,42 @@ def draw_photo(rgb: np.ndarray, result: Suggestion) -> np.ndarray:
     return img
 
 
-def draw_diagram(result: Suggestion, height: int) -> np.ndarray:
-    """A top-down diagram of the located layout with the shot, ``height`` pixels tall."""
+def _lab(rgb: np.ndarray) -> np.ndarray:
+    """CIE Lab (n, 3) of RGB uint8 colours (..., 3)."""
+    cv2 = _cv2()
+    lab = cv2.cvtColor(np.asarray(rgb, dtype=np.uint8).reshape(-1, 1, 3), cv2.COLOR_RGB2LAB)
+    return lab.reshape(-1, 3).astype(float)
+
+
+CLOTH_NAMES = tuple(CLOTH_COLOURS)
+CLOTH_RGB = np.round(np.array([CLOTH_COLOURS[n] for n in CLOTH_NAMES]) * 255).astype(np.uint8)
+"""The cloth colours a diagram is drawn in (RGB), those the renderer draws tables in."""
+
+
+def photo_cloth(rgb: np.ndarray, result: Suggestion) -> tuple[int, int, int]:
+    """The diagram's cloth colour (RGB): of the cloth colours :data:`CLOTH_RGB`, the one nearest (in Lab, lightness
+    weighted :data:`LIGHTNESS_WEIGHT`) to the median of the photo inside the fitted playing surface, balls left out;
+    :data:`CLOTH` where too little of it is in the photo."""
+    cv2 = _cv2()
+    h, w = rgb.shape[:2]
+    inside = np.zeros((h, w), dtype=np.uint8)
+    corners = np.asarray(result.corners_px, dtype=float).reshape(4, 2) - 0.5
+    if not np.all(np.isfinite(corners)) or np.abs(corners).max() > 1e5:
+        return CLOTH
+    cv2.fillConvexPoly(inside, np.round(corners * 16).astype(np.int32), 1, shift=4)
+    for x1, y1, x2, y2 in (b.bbox_px for b in result.balls):
+        inside[max(int(y1), 0) : max(int(np.ceil(y2)), 0), max(int(x1), 0) : max(int(np.ceil(x2)), 0)] = 0
+    pixels = rgb[inside.astype(bool)]
+    if len(pixels) < 100:
+        return CLOTH
+    median = np.median(pixels[:: max(1, len(pixels) // 20_000)], axis=0)
+    weight = np.array([LIGHTNESS_WEIGHT, 1.0, 1.0])
+    gap = np.linalg.norm((_lab(CLOTH_RGB) - _lab(median)) * weight, axis=1)
+    return tuple(int(v) for v in CLOTH_RGB[int(np.argmin(gap))])
+
+
+def draw_diagram(result: Suggestion, height: int, cloth: tuple[int, int, int] = CLOTH) -> np.ndarray:
+    """A top-down diagram of the located layout with the shot, ``height`` pixels tall, its cloth ``cloth`` (RGB)."""
     cv2 = _cv2()
     spec = result.spec
     margin_frac = 0.06
@@ -168,7 +207,7 @@ def draw_diagram(result: Suggestion, height: int) -> np.ndarray:
     img = np.full((h, w, 3), RAIL, dtype=np.uint8)
     m = raster.margin_px
     cv2.rectangle(
-        img, (int(m[0]), int(m[1])), (int(m[0] + raster.surface_px[0]), int(m[1] + raster.surface_px[1])), CLOTH, -1
+        img, (int(m[0]), int(m[1])), (int(m[0] + raster.surface_px[0]), int(m[1] + raster.surface_px[1])), cloth, -1
     )
     px = raster.length_to_pixels
     for pocket in spec.pockets:
@@ -210,10 +249,11 @@ def draw_diagram(result: Suggestion, height: int) -> np.ndarray:
 
 
 def render_result(rgb: np.ndarray, result: Suggestion) -> np.ndarray:
-    """Photo with the shot, the top-down diagram beside it, and the text line below: RGB uint8."""
+    """Photo with the shot, the top-down diagram beside it (in the photo's cloth colour, :func:`photo_cloth`), and
+    the text line below: RGB uint8."""
     cv2 = _cv2()
     photo = draw_photo(rgb, result)
-    diagram = draw_diagram(result, photo.shape[0])
+    diagram = draw_diagram(result, photo.shape[0], photo_cloth(rgb, result))
     h = photo.shape[0]
     canvas = np.full((h + TEXT_BAND, photo.shape[1] + diagram.shape[1], 3), 24, dtype=np.uint8)
     canvas[:h, : photo.shape[1]] = photo
