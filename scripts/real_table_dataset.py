@@ -20,7 +20,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import re
 import sys
 from pathlib import Path
@@ -35,6 +34,7 @@ from pix2pockets.vision.table.estimate import estimate_table
 from pix2pockets.vision.table.fit import TableFitError
 from pix2pockets.vision.table.outline_camera import CUSHION_WIDTH, outline_rectangle
 from pix2pockets.vision.table.quad_geometry import quad_length, quad_of_point_sets
+from pix2pockets.vision.train.table_data import SIDE_POCKETS
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent / "benchmarks"))
@@ -70,19 +70,16 @@ def labelled_camera(image: np.ndarray, labels_px: np.ndarray, detector):
     fitted = fit.camera.project_table(outline_rectangle(spec, CUSHION_WIDTH), spec.cushion_height)
     order = match_corners(labels_px, fitted)
     floor = MIN_FOCAL * max(size)
-    best = None
-    for shift in (0, 1):  # the fit's way round the table, and turned a quarter
+    for shift in (0, 1):  # the fit's way round the table, else turned a quarter
         corners = np.empty((4, 2))
         corners[np.roll(order, shift)] = labels_px
         camera = camera_onto_outline(fit.camera, spec, corners, floor)
         if camera is None:
             continue
         seen = camera.project_table(outline_rectangle(spec, CUSHION_WIDTH), spec.cushion_height)
-        misfit = float(np.abs(seen - corners).max()) / quad_length(labels_px)
-        key = (shift != 0, misfit) if misfit <= MAX_MISFIT else (True, math.inf)
-        if misfit <= MAX_MISFIT and (best is None or key < best[0]):
-            best = (key, camera)
-    return None if best is None else (spec, best[1])
+        if np.abs(seen - corners).max() <= MAX_MISFIT * quad_length(labels_px):
+            return spec, camera
+    return None
 
 
 def meta_of(spec, camera, image_name: str, split: str) -> dict:
@@ -132,7 +129,7 @@ def main() -> None:
             args.draw.mkdir(parents=True, exist_ok=True)
             surface = camera.project_table(outline_rectangle(spec, 0.0), 0.0)
             cv2.polylines(bgr, [np.round(surface).astype(np.int32)], True, (255, 0, 255), 1, cv2.LINE_AA)
-            for p in camera.project_table(spec.pocket_aims[[1, 4]], 0.0):
+            for p in camera.project_table(spec.pocket_aims[list(SIDE_POCKETS)], 0.0):
                 cv2.circle(bgr, tuple(int(v) for v in np.round(p)), 5, (0, 255, 255), 1)
             cv2.imwrite(str(args.draw / f"{stem}.png"), bgr)
     print(f"wrote {written} photos to {args.out} ({skipped} skipped)")

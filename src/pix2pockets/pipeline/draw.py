@@ -15,6 +15,9 @@ from pix2pockets.geometry.raster import TableRaster
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
 from pix2pockets.synth.palette import BALL_COLOURS as NUMBER_COLOURS
 from pix2pockets.synth.palette import CLOTH_COLOURS
+from pix2pockets.vision.table.cloth_edge import cloth_colour
+from pix2pockets.vision.table.cloth_region import lab_of
+from pix2pockets.vision.table.quad_geometry import quad_mask
 
 CUE_PATH = (255, 255, 255)
 OBJECT_PATH = (255, 210, 0)
@@ -25,6 +28,8 @@ CLOTH = (22, 92, 150)
 LIGHTNESS_WEIGHT = 0.5
 """Weight of Lab lightness against hue and chroma when the photo's cloth is matched to a cloth colour: the light over
 a table changes how bright its cloth looks more than its hue."""
+MIN_CLOTH_PIXELS = 100
+"""Fewest pixels of the fitted playing surface in the photo for its cloth colour to be read."""
 RAIL = (92, 56, 30)
 POCKET = (15, 15, 15)
 BALL_COLOURS = {
@@ -161,37 +166,22 @@ def draw_photo(rgb: np.ndarray, result: Suggestion) -> np.ndarray:
     return img
 
 
-def _lab(rgb: np.ndarray) -> np.ndarray:
-    """CIE Lab (n, 3) of RGB uint8 colours (..., 3)."""
-    cv2 = _cv2()
-    lab = cv2.cvtColor(np.asarray(rgb, dtype=np.uint8).reshape(-1, 1, 3), cv2.COLOR_RGB2LAB)
-    return lab.reshape(-1, 3).astype(float)
-
-
 CLOTH_NAMES = tuple(CLOTH_COLOURS)
 CLOTH_RGB = np.round(np.array([CLOTH_COLOURS[n] for n in CLOTH_NAMES]) * 255).astype(np.uint8)
 """The cloth colours a diagram is drawn in (RGB), those the renderer draws tables in."""
 
 
 def photo_cloth(rgb: np.ndarray, result: Suggestion) -> tuple[int, int, int]:
-    """The diagram's cloth colour (RGB): of the cloth colours :data:`CLOTH_RGB`, the one nearest (in Lab, lightness
-    weighted :data:`LIGHTNESS_WEIGHT`) to the median of the photo inside the fitted playing surface, balls left out;
-    :data:`CLOTH` where too little of it is in the photo."""
-    cv2 = _cv2()
-    h, w = rgb.shape[:2]
-    inside = np.zeros((h, w), dtype=np.uint8)
-    corners = np.asarray(result.corners_px, dtype=float).reshape(4, 2) - 0.5
-    if not np.all(np.isfinite(corners)) or np.abs(corners).max() > 1e5:
+    """The diagram's cloth colour (RGB): of the cloth colours :data:`CLOTH_RGB`, the one nearest (in CIE Lab, lightness
+    weighted :data:`LIGHTNESS_WEIGHT`) to the photo's cloth inside the fitted playing surface
+    (:func:`~pix2pockets.vision.table.cloth_edge.cloth_colour`, balls left out); :data:`CLOTH` where too little of it
+    is in the photo."""
+    inside = quad_mask(np.asarray(result.corners_px, dtype=float) - 0.5, rgb.shape)
+    if inside.sum() < MIN_CLOTH_PIXELS:
         return CLOTH
-    cv2.fillConvexPoly(inside, np.round(corners * 16).astype(np.int32), 1, shift=4)
-    for x1, y1, x2, y2 in (b.bbox_px for b in result.balls):
-        inside[max(int(y1), 0) : max(int(np.ceil(y2)), 0), max(int(x1), 0) : max(int(np.ceil(x2)), 0)] = 0
-    pixels = rgb[inside.astype(bool)]
-    if len(pixels) < 100:
-        return CLOTH
-    median = np.median(pixels[:: max(1, len(pixels) // 20_000)], axis=0)
+    boxes = np.array([b.bbox_px for b in result.balls], dtype=float).reshape(-1, 4)
     weight = np.array([LIGHTNESS_WEIGHT, 1.0, 1.0])
-    gap = np.linalg.norm((_lab(CLOTH_RGB) - _lab(median)) * weight, axis=1)
+    gap = np.linalg.norm((lab_of(CLOTH_RGB[None]).reshape(-1, 3) - cloth_colour(rgb, inside, boxes)) * weight, axis=1)
     return tuple(int(v) for v in CLOTH_RGB[int(np.argmin(gap))])
 
 
