@@ -92,6 +92,19 @@ def test_pipeline_errors_fail_cleanly(tmp_path, monkeypatch, photo_file, capsys,
     assert not out.exists()
 
 
+def test_ball_in_hand_places_a_missing_cue_ball(tmp_path, monkeypatch, photo_file, capsys):
+    det = LabelDetector(camera("45"), example_layout(), drop=(0,))
+    monkeypatch.setattr(photo, "default_detector", lambda: det)
+    assert main(["suggest", str(photo_file), "--json", "-"]) == 2
+    assert "ask for ball in hand" in capsys.readouterr().err
+    assert main(["suggest", str(photo_file), "--ball-in-hand", "table", "--json", "-"]) == 0
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["ball_in_hand"] == "table" and doc["balls"][-1]["class"] == "cue" and doc["balls"][-1]["in_hand"]
+    with pytest.raises(SystemExit) as exc:
+        main(["suggest", str(photo_file), "--ball-in-hand", "pocket"])
+    assert exc.value.code == 2 and "invalid choice: 'pocket'" in capsys.readouterr().err
+
+
 def test_bad_output_paths(tmp_path, photo_file, capsys):
     assert main(["suggest", str(photo_file), "--out", str(tmp_path / "x.txt")]) == 2
     assert main(["suggest", str(photo_file), "--out", str(tmp_path / "missing" / "x.png")]) == 2

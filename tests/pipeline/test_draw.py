@@ -1,5 +1,5 @@
 """The top-down diagram: balls located unsurely carry a ring as wide as their position error; the cloth is drawn in
-the cloth colour nearest the photo's."""
+the cloth colour nearest the photo's; sights are drawn on tables fitted to them."""
 
 from __future__ import annotations
 
@@ -54,3 +54,14 @@ def test_a_table_fitted_outside_the_photo_keeps_the_default_cloth():
     cam = camera("top")
     res = replace(located(cam), corners_px=np.full((4, 2), np.nan))
     assert photo_cloth(blank_image(cam), res) == CLOTH
+
+
+def test_the_rails_carry_sights_only_where_the_table_was_fitted_to_some():
+    res = located(camera("top"))
+    assert res.evidence["diamonds"] > 0
+    plain = replace(res, evidence={**res.evidence, "diamonds": 0})
+    with_sights, without = draw_diagram(res, HEIGHT), draw_diagram(plain, HEIGHT)
+    spots = np.all(with_sights >= 200, axis=-1) & ~np.all(without >= 200, axis=-1)  # light dots on the rails only
+    assert spots.sum() >= 18 * 4
+    h, w = spots.shape
+    assert not spots[int(0.15 * h) : int(0.85 * h), int(0.1 * w) : int(0.9 * w)].any()  # none on the cloth

@@ -115,6 +115,38 @@ def test_bad_photos(kwargs, error, match):
         suggest(blank_image(cam), "solids", LabelDetector(cam, example_layout(), **kwargs), NearestPocketPlanner())
 
 
+@pytest.mark.parametrize("drop", [(0,), ()])
+def test_ball_in_hand_puts_the_cue_ball_where_the_planner_likes_it(drop):
+    cam = camera("45")
+    layout = example_layout()
+    detector = LabelDetector(cam, layout, drop=drop)
+    res = suggest(blank_image(cam), "solids", detector, NearestPocketPlanner(), SPEC, ball_in_hand="table")
+    assert len(res.balls) == len(layout)  # a cue ball seen in the photo is picked up, one is put down
+    assert [b.ball_class for b in res.balls].count("cue") == 1
+    placed = res.balls[-1]
+    assert placed.in_hand and placed.ball_class == "cue" and not any(b.in_hand for b in res.balls[:-1])
+    xy = np.array(placed.table_xy_m)
+    others = np.array([b.table_xy_m for b in res.balls[:-1]])
+    assert np.linalg.norm(others - xy, axis=1).min() > SPEC.cue_contact_distance
+    np.testing.assert_allclose(placed.contact_px, cam.project_table(xy, 0.0), atol=0.05)
+    doc = res.to_dict()
+    assert doc["ball_in_hand"] == "table" and doc["balls"][-1]["in_hand"] is True
+    assert res.text.startswith(f"Ball in hand: cue ball at ({xy[0]:.2f}, {xy[1]:.2f}) m; ")
+    assert res.shot.cue_path[0] == pytest.approx(xy)
+    render_result(blank_image(cam), res)
+    baulk = suggest(blank_image(cam), "solids", detector, NearestPocketPlanner(), SPEC, ball_in_hand="baulk")
+    assert baulk.balls[-1].table_xy_m[0] <= SPEC.baulk_line_x and baulk.to_dict()["ball_in_hand"] == "baulk"
+
+
+def test_without_ball_in_hand_the_cue_ball_is_played_where_it_lies():
+    cam = camera("45")
+    res = suggest(blank_image(cam), "solids", LabelDetector(cam, example_layout()), NearestPocketPlanner(), SPEC)
+    assert res.ball_in_hand is None and not any(b.in_hand for b in res.balls)
+    assert res.to_dict()["ball_in_hand"] is None and not res.text.startswith("Ball in hand")
+    with pytest.raises(ValueError, match="unknown ball in hand 'pocket'; choose none, table, baulk"):
+        suggest(blank_image(cam), "solids", LabelDetector(cam, example_layout()), ball_in_hand="pocket")
+
+
 def test_no_cue_ball_says_whether_one_was_seen():
     """A cue ball the photo shows but the fitted table does not hold points at the fit, not at the photo."""
     boxes = np.array([[10.0, 10.0, 30.0, 30.0], [50.0, 10.0, 70.0, 30.0]])

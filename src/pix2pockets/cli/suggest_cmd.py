@@ -11,6 +11,7 @@ from pix2pockets.cli.warmup_cmd import AfterCompile, compile_in_background
 from pix2pockets.data.examples import example_photo_path
 from pix2pockets.files import check_output, write_atomic
 from pix2pockets.geometry.table import TABLE_PRESETS
+from pix2pockets.rules import InHand
 from pix2pockets.state.ball_set import BALL_SET_CHOICES, group_choices, parse_ball_set, parse_group
 
 IMAGE_SUFFIXES = (".png", ".jpg", ".jpeg", ".bmp", ".webp")
@@ -60,6 +61,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         choices=["auto", *TABLE_PRESETS],
         default="auto",
         help="table size (default auto: from the balls' size when the table is found without diamonds, else 9ft)",
+    )
+    parser.add_argument(
+        "--ball-in-hand",
+        default="none",
+        choices=[a.value for a in InHand],
+        help="you have the cue ball in hand: the planner puts it anywhere free on the table (table) or behind the "
+        "baulk line at the table's head end (baulk); the photo's cue ball, if any, is picked up. none (default): "
+        "the cue ball is played from where it lies",
     )
     parser.add_argument("--force", action="store_true", help="overwrite existing output files")
     parser.set_defaults(func=run)
@@ -125,6 +134,7 @@ def run(args: argparse.Namespace) -> int:
         locate_method=args.method,
         number_reader=(args.numbers or "").lower() != "none",
         ball_set=args.ball_set,
+        ball_in_hand=args.ball_in_hand,
     )
     # everything is computed before anything is written: errors leave no partial outputs
     picture = encode_picture(render_result(rgb, result), Path(args.out).suffix) if args.out else None

@@ -23,6 +23,8 @@ CUE_PATH = (255, 255, 255)
 OBJECT_PATH = (255, 210, 0)
 GHOST = (255, 255, 255)
 TABLE_LINE = (120, 255, 120)
+IN_HAND = (40, 200, 255)
+"""Ring round a cue ball put by ball in hand (photo and diagram)."""
 CLOTH = (22, 92, 150)
 """Diagram cloth when the photo's cloth is not read."""
 LIGHTNESS_WEIGHT = 0.5
@@ -146,9 +148,13 @@ def draw_photo(rgb: np.ndarray, result: Suggestion) -> np.ndarray:
     corners = np.round(result.corners_px).astype(np.int32).reshape(-1, 1, 2)
     cv2.polylines(img, [corners], True, TABLE_LINE, 1, cv2.LINE_AA)
     for ball, xy in zip(result.balls, result.layout.positions, strict=True):
+        if ball.in_hand:  # not in the photo: the ball drawn where to put it
+            outline = _sphere_outline(cam, xy, R)
+            cv2.fillPoly(img, [outline], BALL_COLOURS["cue"], cv2.LINE_AA)
+            cv2.polylines(img, [outline], True, IN_HAND, thick, cv2.LINE_AA)
+            continue
         c = tuple(round(v) for v in ball.contact_px)
         cv2.circle(img, c, thick + 1, BALL_COLOURS[ball.ball_class], -1, cv2.LINE_AA)
-        del xy
     shot = result.shot
     cue_poly = _project_path(cam, shot.cue_path, R)
     obj_poly = _project_path(cam, shot.object_path, R)
@@ -186,7 +192,8 @@ def photo_cloth(rgb: np.ndarray, result: Suggestion) -> tuple[int, int, int]:
 
 
 def draw_diagram(result: Suggestion, height: int, cloth: tuple[int, int, int] = CLOTH) -> np.ndarray:
-    """A top-down diagram of the located layout with the shot, ``height`` pixels tall, its cloth ``cloth`` (RGB)."""
+    """A top-down diagram of the located layout with the shot, ``height`` pixels tall, its cloth ``cloth`` (RGB); the
+    rails carry sights where the table was fitted to some (``evidence["diamonds"]``)."""
     cv2 = _cv2()
     spec = result.spec
     margin_frac = 0.06
@@ -203,9 +210,10 @@ def draw_diagram(result: Suggestion, height: int, cloth: tuple[int, int, int] = 
     for pocket in spec.pockets:
         c = tuple(round(v) for v in raster.table_to_pixels(pocket.centre))
         cv2.circle(img, c, max(3, int(px(pocket.capture_radius * 0.8))), POCKET, -1, cv2.LINE_AA)
-    for d in spec.diamonds:
-        c = tuple(round(v) for v in raster.table_to_pixels(d))
-        cv2.circle(img, c, 2, (230, 230, 230), -1, cv2.LINE_AA)
+    if result.evidence.get("diamonds", 0) > 0:  # a table with sights; pub and home tables often have none
+        for d in spec.diamonds:
+            c = tuple(round(v) for v in raster.table_to_pixels(d))
+            cv2.circle(img, c, 2, (230, 230, 230), -1, cv2.LINE_AA)
     r = max(3, round(px(spec.ball_radius)))
     thick = max(1, r // 4)
     shot = result.shot
@@ -227,6 +235,9 @@ def draw_diagram(result: Suggestion, height: int, cloth: tuple[int, int, int] = 
         if ball.sure_number is not None:
             _draw_number(img, c, ball.sure_number, r)
         cv2.circle(img, c, r, (0, 0, 0), 1, cv2.LINE_AA)
+    for ball, c in zip(result.balls, centres, strict=True):
+        if ball.in_hand:
+            cv2.circle(img, c, int(r * 1.6), IN_HAND, thick, cv2.LINE_AA)
     if shot.ghost is not None:
         c = tuple(round(v) for v in raster.table_to_pixels(shot.ghost))
         cv2.circle(img, c, r, GHOST, 1, cv2.LINE_AA)

@@ -16,10 +16,12 @@ from pathlib import Path
 
 import numpy as np
 
+from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.raster import table_to_env_pixels
 from pix2pockets.geometry.table import TableSpec, table_preset
-from pix2pockets.pipeline.planning import ShotPlanner, default_planner, plan_shot, planner_for_set
+from pix2pockets.pipeline.planning import ShotPlanner, default_planner, place_in_hand, plan_shot, planner_for_set
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
+from pix2pockets.rules import InHand
 from pix2pockets.state.ball import BallClass
 from pix2pockets.state.ball_set import BallSet, class_name, group_name, parse_ball_set, parse_group, set_of_group
 from pix2pockets.vision.classes import DETECTION_CAPS, ONE_PER_TABLE, ball_class_of
@@ -213,6 +215,7 @@ def suggest(
     skill: str = "pro",
     table_model: TableModel | bool | None = True,
     ball_set: BallSet | str = "auto",
+    ball_in_hand: InHand | str | None = None,
 ) -> Suggestion:
     """The best shot for a photo of a pool table.
 
@@ -236,11 +239,16 @@ def suggest(
             present; ``False`` or ``None``: the table is fitted to the diamonds and the cloth's colour only).
         ball_set: ``american``, ``blackball`` or ``auto`` (read from the balls' colours; a group of one set, such as
             ``reds``, names the set).
+        ball_in_hand: ``table`` or ``baulk``: the player has the cue ball in hand (after a foul) and may put it
+            anywhere free on the table, or behind the baulk line; the photo's cue ball, if any, is picked up and the
+            planner places it (:func:`~pix2pockets.pipeline.planning.place_in_hand`). ``None`` or ``none``: the cue
+            ball is played from where it lies in the photo.
 
     Raises:
         ValueError: unreadable image, no table found, too few table points, no cue ball, no balls of the
-            group (with a one-line reason).
+            group, an unknown ``ball_in_hand`` (with a one-line reason).
     """
+    in_hand = parse_in_hand(ball_in_hand)
     given_spec = spec is not None
     timings: dict[str, float] = {}
     t0 = time.perf_counter()
@@ -280,19 +288,27 @@ def suggest(
     t = time.perf_counter()
     located = balls_in_play(raw, det, rgb, chosen, fit, locate_method)
     layout = located.to_layout(spec)
-    if layout.cue_index is None:
+    kept = located.detections
+    contact_px = located.contact_px
+    if in_hand is not InHand.NONE and layout.cue_index is not None:  # picked up, to be placed
+        seen = [i for i in range(len(layout)) if i != layout.cue_index]
+        layout, kept, contact_px = layout.without([layout.cue_index]), kept[np.array(seen, dtype=int)], contact_px[seen]
+    if layout.cue_index is None and in_hand is InHand.NONE:
         raise ValueError(no_cue_ball_reason(det))
     timings["locate"] = time.perf_counter() - t
 
     t = time.perf_counter()
-    kept = located.detections
     read = read_numbers(rgb, kept, number_reader if chosen is BallSet.AMERICAN else None)
     timings["numbers"] = time.perf_counter() - t
 
     t = time.perf_counter()
     planner = planner_for_set(planner or default_planner(skill=skill), chosen)
+    group_asked = wanted if wanted == "auto" else wanted.value
     position_cov = position_covariances(fit.camera, layout.positions, spec.ball_radius, fit.rms_px)
-    advice = plan_shot(layout, wanted if wanted == "auto" else wanted.value, planner, rng, position_sigma=position_cov)
+    if in_hand is not InHand.NONE:
+        layout = place_in_hand(layout, group_asked, planner, in_hand, rng)
+        position_cov = np.concatenate([position_cov.reshape(-1, 2, 2), np.zeros((1, 2, 2))])  # put there exactly
+    advice = plan_shot(layout, group_asked, planner, rng, position_sigma=position_cov)
     advice = replace(advice, group=group_name(advice.group, chosen))
     timings["plan"] = time.perf_counter() - t
 
@@ -312,13 +328,15 @@ def suggest(
             kept.class_id,
             kept.confidence,
             kept.boxes,
-            located.contact_px,
-            layout.positions,
+            contact_px,
+            layout.positions[: len(kept)],  # a cue ball in hand, placed last, is no detection
             read,
-            position_sigmas(position_cov),
+            position_sigmas(position_cov)[: len(kept)],
             strict=True,
         )
     )
+    if in_hand is not InHand.NONE:
+        balls = (*balls, placed_cue_ball(fit.camera, layout.positions[-1], spec))
     timings["total"] = time.perf_counter() - t0
     return Suggestion(
         (w, h),
@@ -337,6 +355,44 @@ def suggest(
         fit_evidence(fit, surface),
         chosen.value,
         in_view,
+        None if in_hand is InHand.NONE else in_hand.value,
+    )
+
+
+def parse_in_hand(ball_in_hand: InHand | str | None) -> InHand:
+    """Where the cue ball may be put: ``table`` or ``baulk`` (ball in hand), ``none``/``None`` (where it lies).
+
+    Raises:
+        ValueError: another name.
+    """
+    if ball_in_hand is None:
+        return InHand.NONE
+    try:
+        return InHand(str(ball_in_hand).strip().lower())
+    except ValueError:
+        choices = ", ".join(a.value for a in InHand)
+        raise ValueError(f"unknown ball in hand {str(ball_in_hand)[:40]!r}; choose {choices}") from None
+
+
+def placed_cue_ball(camera: PinholeCamera, xy: np.ndarray, spec: TableSpec) -> LocatedBall:
+    """The cue ball put at ``xy`` [m] by ball in hand, as a located ball: its box and contact point where it would
+    be seen in the photo."""
+    r = spec.ball_radius
+    contact = camera.project_table(xy, 0.0)
+    ring = xy + r * np.stack([np.cos(np.linspace(0, 2 * np.pi, 24)), np.sin(np.linspace(0, 2 * np.pi, 24))], axis=1)
+    outline = np.vstack([camera.project_table(ring, r), contact[None], camera.project_table(xy, 2 * r)[None]])
+    box = (*np.nanmin(outline, axis=0), *np.nanmax(outline, axis=0))
+    return LocatedBall(
+        "cue",
+        1.0,
+        tuple(float(v) for v in box),
+        tuple(float(v) for v in contact),
+        tuple(float(v) for v in xy),
+        tuple(float(v) for v in table_to_env_pixels(xy, spec)),
+        0,
+        1.0,
+        0.0,
+        in_hand=True,
     )
 
 
@@ -370,7 +426,10 @@ def no_cue_ball_reason(detections: Detections) -> str:
     the table the fit found (or in a pocket)."""
     balls = detections[detections.is_ball]
     if not any(ball_class_of(int(c)) is BallClass.CUE for c in balls.class_id):
-        return "no cue ball found on the table: none was seen in the photo (is it in view, not hidden by a player?)"
+        return (
+            "no cue ball found on the table: none was seen in the photo (is it in view, not hidden by a player? With "
+            "the cue ball in hand, ask for ball in hand)"
+        )
     return (
         "no cue ball found on the table: the cue ball seen in the photo lies off the table found there, or in a "
         "pocket (the table fit may be off: show the whole table with its four cushions, or give the table's size)"

@@ -21,8 +21,9 @@ import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.pipeline.result import ShotAdvice
+from pix2pockets.planner.ball_in_hand import best_placement
 from pix2pockets.planner.chance import Chance, measure_chance
-from pix2pockets.rules import GameState
+from pix2pockets.rules import GameState, InHand
 from pix2pockets.state import BallClass, Group, Shot, TableLayout
 from pix2pockets.state.ball_set import BallSet
 
@@ -199,6 +200,54 @@ def advice_from_candidate(candidate: Any, layout: TableLayout, group: Group) -> 
     )
 
 
+def groups_to_plan(layout: TableLayout, group: str | Group) -> list[Group]:
+    """The groups to plan for: ``group``, or for ``auto`` each group with balls on the table (solids when only the 8
+    is left).
+
+    Raises:
+        ValueError: an unknown group, or no ball of the group (and no 8-ball) on the table.
+    """
+    have = {g: bool(layout.indices_of(g.ball_class)) for g in Group}
+    black = bool(layout.indices_of(BallClass.BLACK))
+    if str(group) == "auto":
+        groups = [g for g in Group if have[g]] or ([Group.SOLIDS] if black else [])
+        if not groups:
+            raise ValueError("no object balls found on the table (no solids, stripes or 8-ball)")
+        return groups
+    try:
+        g = Group(str(group))
+    except ValueError:
+        raise ValueError(f"unknown group {group!r}; choose solids, stripes or auto") from None
+    if not have[g] and not black:
+        raise ValueError(f"no {g.value} (and no 8-ball) found on the table")
+    return [g]
+
+
+def place_in_hand(
+    layout: TableLayout,
+    group: str | Group,
+    planner: ShotPlanner,
+    area: InHand,
+    rng: np.random.Generator | None = None,
+) -> TableLayout:
+    """Ball in hand: ``layout`` without its cue ball (the player picks it up), the cue ball put back where
+    ``planner`` likes the best shot for ``group`` most (``auto``: for the group with the better shot;
+    :func:`~pix2pockets.planner.ball_in_hand.best_placement`), anywhere free on the table or behind the baulk line
+    (``area``). The placed cue ball is the layout's last ball.
+
+    Raises:
+        ValueError: as :func:`groups_to_plan`, or no free spot in ``area``.
+    """
+    base = layout if layout.cue_index is None else layout.without([layout.cue_index])
+    best: tuple[float, TableLayout] | None = None
+    for g in groups_to_plan(base, group):
+        placed, top = best_placement(base, planner, GameState(group=g), rng, area)
+        score = _value_of(top) - (1e3 if top.safety else 0.0)
+        if best is None or score > best[0]:
+            best = (score, placed)
+    return best[1]
+
+
 def plan_shot(
     layout: TableLayout,
     group: str | Group,
@@ -218,22 +267,8 @@ def plan_shot(
     """
     if layout.cue_index is None:
         raise ValueError("no cue ball found on the table")
-    have = {g: bool(layout.indices_of(g.ball_class)) for g in Group}
-    black = bool(layout.indices_of(BallClass.BLACK))
-    if str(group) == "auto":
-        groups = [g for g in Group if have[g]] or ([Group.SOLIDS] if black else [])
-        if not groups:
-            raise ValueError("no object balls found on the table (no solids, stripes or 8-ball)")
-    else:
-        try:
-            g = Group(str(group))
-        except ValueError:
-            raise ValueError(f"unknown group {group!r}; choose solids, stripes or auto") from None
-        if not have[g] and not black:
-            raise ValueError(f"no {g.value} (and no 8-ball) found on the table")
-        groups = [g]
     best: tuple[float, ShotAdvice] | None = None
-    for g in groups:
+    for g in groups_to_plan(layout, group):
         candidates = planner.suggest(layout, GameState(group=g), rng)
         if not candidates:
             continue

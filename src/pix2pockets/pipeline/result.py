@@ -50,6 +50,8 @@ class LocatedBall:
         position_sigma_m: how far the ball may be from ``table_xy_m`` along its worst direction (one standard
             deviation) [m], from the camera and the fit's error (:mod:`pix2pockets.vision.locate.position_error`);
             ``None`` when unknown.
+        in_hand: the cue ball put there by ball in hand (not seen in the photo: its box and contact point are where it
+            would be seen).
     """
 
     ball_class: str
@@ -61,6 +63,7 @@ class LocatedBall:
     number: int | None = None
     number_chance: float | None = None
     position_sigma_m: float | None = None
+    in_hand: bool = False
 
     @property
     def sure_number(self) -> int | None:
@@ -87,6 +90,7 @@ class LocatedBall:
             "table_xy_m": [round(v, 4) for v in self.table_xy_m],
             "env_xy_px": [round(v, 2) for v in self.env_xy_px],
             "position_sigma_m": self.position_sigma_m,
+            "in_hand": self.in_hand,
         }
 
 
@@ -208,6 +212,8 @@ class Suggestion:
             outline moved onto the cloth's edge in the photo.
         table_in_view: share of the fitted playing surface inside the photo; below :data:`WHOLE_TABLE_IN_VIEW` the
             text says that part of the table (and any ball there) is not seen.
+        ball_in_hand: ``table`` or ``baulk`` when the cue ball was in hand and placed by the planner (the last of
+            ``balls``, ``in_hand`` set), ``None`` when it is played from where it lies.
     """
 
     image_size: tuple[int, int]
@@ -226,6 +232,7 @@ class Suggestion:
     evidence: dict = field(default_factory=dict)
     ball_set: str = "american"
     table_in_view: float = 1.0
+    ball_in_hand: str | None = None
 
     @property
     def spec(self) -> TableSpec:
@@ -242,6 +249,9 @@ class Suggestion:
     def text(self) -> str:
         """One-line description of the shot."""
         text = self.shot.describe(self.balls)
+        if self.ball_in_hand is not None:
+            x, y = self.balls[-1].table_xy_m
+            text = f"Ball in hand: cue ball at ({x:.2f}, {y:.2f}) m; {text}"
         if self.table_in_view < WHOLE_TABLE_IN_VIEW:
             out = 100 * (1 - self.table_in_view)
             text += f"; {out:.0f}% of the table is out of the photo: balls there are not seen"
@@ -272,6 +282,7 @@ class Suggestion:
                 "in_view": round(float(self.table_in_view), 3),
             },
             "ball_set": self.ball_set,
+            "ball_in_hand": self.ball_in_hand,
             "balls": [b.to_dict() for b in self.balls],
             "suggestion": self.shot.to_dict(),
             "text": self.text,

@@ -6,7 +6,8 @@ The rules judge one shot at a time (:mod:`pix2pockets.rules`); a game strings th
 - a legal miss ends the visit: the opponent comes to the table, unless the shooter still has a visit owed;
 - a foul hands the opponent ``TurnResult.penalty_visits`` visits (one under 8-ball rules, two under blackball rules)
   and the cue ball where ``TurnResult.in_hand`` says: under 8-ball rules in hand anywhere free on the table
-  (:func:`place_cue_ball`); under blackball rules where it lies, or in hand behind the baulk line when it dropped;
+  (:func:`~pix2pockets.planner.ball_in_hand.place_cue_ball`); under blackball rules where it lies, or in hand behind
+  the baulk line when it dropped;
 - the black potted legally wins, a loss (the black early, or with a foul) hands the game to the opponent.
 
 An open table stays open until a legal pot gives the shooter a group; the opponent then has the other. The game
@@ -25,15 +26,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from pix2pockets.physics.base import Simulator
+from pix2pockets.planner.ball_in_hand import place_cue_ball
 from pix2pockets.planner.base import Planner
 from pix2pockets.planner.noise import NoiseModel
 from pix2pockets.rules import GameState, InHand, Judge, Outcome, judge_for
-from pix2pockets.state import Ball, TableLayout
+from pix2pockets.state import TableLayout
 from pix2pockets.state.ball import Group
 from pix2pockets.state.ball_set import BallSet
 
-PLACEMENT_GRID = (4, 2)
-"""Ball-in-hand spots tried: a grid of this many columns (along the table) and rows, inside the cushions."""
 MAX_SHOTS = 200
 """A game still going after this many shots is called unfinished."""
 
@@ -57,48 +57,6 @@ class GameRecord:
     fouls: tuple[int, int]
     pots: tuple[int, int]
     final: TableLayout
-
-
-def place_cue_ball(
-    layout: TableLayout,
-    planner: Planner,
-    state: GameState,
-    rng: np.random.Generator,
-    area: InHand = InHand.TABLE,
-) -> TableLayout:
-    """Ball in hand: the cue ball put where ``planner`` likes its best shot most.
-
-    The spots of :data:`PLACEMENT_GRID` over ``area`` (the whole table, or the baulk area between the head cushion
-    and :attr:`~pix2pockets.geometry.table.TableSpec.baulk_line_x`) that are free (no ball within a
-    cue-ball-plus-ball distance) are tried; the planner's best suggestion from each is ranked by its success
-    estimate, then its value. ``layout`` must hold no cue ball.
-
-    Raises:
-        ValueError: the layout already has a cue ball, or no spot is free.
-    """
-    if layout.cue_index is not None:
-        raise ValueError("the layout already has a cue ball; ball in hand places a missing one")
-    if area is InHand.NONE:
-        raise ValueError("ball in hand needs an area to place the cue ball in (table or baulk)")
-    spec = layout.spec
-    cols, rows = PLACEMENT_GRID
-    reach = spec.baulk_line_x if area is InHand.BAULK else spec.length
-    xs = reach * (np.arange(cols) + 0.5) / cols
-    ys = spec.width * (np.arange(rows) + 0.5) / rows
-    spots = [np.array([x, y]) for x in xs for y in ys]
-    clearance = spec.cue_contact_distance + 0.5 * spec.ball_radius
-    best, best_key = None, None
-    for xy in spots:
-        if len(layout) and np.min(np.linalg.norm(layout.positions - xy, axis=1)) < clearance:
-            continue
-        placed = TableLayout((*layout.balls, Ball.numbered(0)), np.vstack([layout.positions, xy]), spec)
-        top = planner.suggest(placed, state, rng)[0]
-        key = (top.success_probability or 0.0, top.value)
-        if best_key is None or key > best_key:
-            best, best_key = placed, key
-    if best is None:
-        raise ValueError("no free spot for the cue ball")
-    return best
 
 
 def play_game(

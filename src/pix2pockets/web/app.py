@@ -4,7 +4,8 @@ Routes:
     ``GET /``: the page (one self-contained HTML file: inline CSS and JS, nothing fetched from elsewhere).
     ``POST /api/jobs``: multipart ``file`` (the photo), ``group`` (``auto``, ``solids``, ``stripes``, ``reds`` or
     ``yellows``) and optionally ``skill`` (``pro``, the default, ``club`` or ``beginner``: the shot and its chance
-    are for it), ``table`` (``auto`` or a size) and ``set`` (``auto``, ``american`` or ``blackball``);
+    are for it), ``table`` (``auto`` or a size), ``set`` (``auto``, ``american`` or ``blackball``) and ``in_hand``
+    (``none``, the default: the cue ball where it lies; ``table`` or ``baulk``: ball in hand, placed by the planner);
     answers 202 at once with the job's id; ``GET /api/jobs/{id}`` follows it (queued with the number of photos
     ahead, then each stage, then the answer). ``?since=VERSION`` waits up to 15 s for the next change.
     ``POST /api/suggest``: the same upload, answered when done: the JSON of ``pix2pockets suggest --json`` plus
@@ -12,10 +13,10 @@ Routes:
     ``GET /api/example``: the bundled example photo. ``GET /api/health``: ``{"status": "ok", ...}`` with the
     pool's counts. ``GET /favicon.ico``: the icon.
 
-Every error is JSON ``{"error": "<one line>"}``: 400 bad upload, group, skill, table or set, 404 unknown route or
-job, 413 upload too large, 422 a readable photo where the table, the cue ball or the group's balls are not found,
-503 busy (with ``Retry-After``), shutting down, or no detector or planner in this build. The photo goes through the same
-functions as the CLI (see :mod:`pix2pockets.web.worker`).
+Every error is JSON ``{"error": "<one line>"}``: 400 bad upload, group, skill, table, set or ball in hand, 404 unknown
+route or job, 413 upload too large, 422 a readable photo where the table, the cue ball or the group's balls are not
+found, 503 busy (with ``Retry-After``), shutting down, or no detector or planner in this build. The photo goes through
+the same functions as the CLI (see :mod:`pix2pockets.web.worker`).
 
 Example:
     >>> from pix2pockets.web.app import create_app
@@ -42,6 +43,7 @@ from starlette.datastructures import UploadFile
 from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from pix2pockets import __version__
+from pix2pockets.rules import InHand
 from pix2pockets.state.ball_set import BALL_SET_CHOICES, group_choices
 from pix2pockets.vision.image_io import MAX_PIXELS
 from pix2pockets.web.jobs import BusyError, Job, JobBoard
@@ -57,6 +59,9 @@ MAX_UPLOAD_BYTES = 20_000_000
 GROUPS = group_choices()
 BALL_SETS = BALL_SET_CHOICES
 """``auto`` and the values of :class:`pix2pockets.state.Group`."""
+IN_HAND = tuple(a.value for a in InHand)
+"""Where the cue ball is played from: where it lies (``none``) or ball in hand on the table or behind the baulk
+line."""
 LONG_POLL_S = 15.0
 """Longest a ``GET /api/jobs/{id}?since=N`` waits for the job to change [s]."""
 PAGE_CSP = (
@@ -213,6 +218,7 @@ def create_app(
             "skills": list(SKILLS),
             "tables": list(TABLES),
             "ball_sets": list(BALL_SETS),
+            "ball_in_hand": list(IN_HAND),
             "max_upload_bytes": max_upload_bytes,
             "example": example.is_file(),
             **board.stats(),
@@ -246,6 +252,9 @@ def create_app(
                 ball_set = form.get("set", "auto")
                 if not isinstance(ball_set, str) or ball_set.strip().lower() not in BALL_SETS:
                     raise WebError(400, f"unknown ball set {str(ball_set)[:40]!r}; choose {', '.join(BALL_SETS)}")
+                in_hand = form.get("in_hand", "none")
+                if not isinstance(in_hand, str) or in_hand.strip().lower() not in IN_HAND:
+                    raise WebError(400, f"unknown ball in hand {str(in_hand)[:40]!r}; choose {', '.join(IN_HAND)}")
                 upload = form.get("file")
                 if not isinstance(upload, UploadFile):
                     raise WebError(400, "no photo uploaded (send it as the multipart file field 'file')")
@@ -253,7 +262,11 @@ def create_app(
                 name = _upload_name(upload)
             _check_header(data, name, max_pixels)
             options = JobOptions(
-                group.strip().lower(), skill.strip().lower(), table.strip().lower(), ball_set.strip().lower()
+                group.strip().lower(),
+                skill.strip().lower(),
+                table.strip().lower(),
+                ball_set.strip().lower(),
+                in_hand.strip().lower(),
             )
             return submit(data, name, options, keep)
 

@@ -123,12 +123,14 @@ TABLES = ("auto", *TABLE_PRESETS)
 
 @dataclass(frozen=True, slots=True)
 class JobOptions:
-    """What the player asked for with a photo: their group, their skill level, the table's size and the ball set."""
+    """What the player asked for with a photo: their group, their skill level, the table's size, the ball set and
+    whether the cue ball is in hand (``none``, ``table`` or ``baulk``)."""
 
     group: str = "auto"
     skill: str = "pro"
     table: str = "auto"
     ball_set: str = "auto"
+    ball_in_hand: str = "none"
 
     @classmethod
     def of(cls, options: JobOptions | str) -> JobOptions:
@@ -224,7 +226,13 @@ class Engine:
         spec = None if options.table == "auto" else table_preset(options.table)
         try:
             result = photo.suggest(
-                rgb, group=options.group, detector=detector, planner=planner, spec=spec, ball_set=options.ball_set
+                rgb,
+                group=options.group,
+                detector=detector,
+                planner=planner,
+                spec=spec,
+                ball_set=options.ball_set,
+                ball_in_hand=options.ball_in_hand,
             )
         except ValueError as err:
             raise WebError(422, str(err)) from None
