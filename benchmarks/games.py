@@ -4,7 +4,7 @@ Game ``i`` starts from layout ``i`` of the ``evaluate planner`` protocol (16 bal
 the set's table (``--set american``: 9-foot, 8-ball rules; ``blackball``: UK 7-foot, WEPF rules, two visits after a
 foul), every stroke executed with the ``--skill`` noise; the players take turns to start (A starts the even games).
 Ball in hand after a foul (8-ball: anywhere; WEPF: behind the baulk line, only when the cue ball dropped) goes to the
-free spot the player's planner likes best (:func:`pix2pockets.planner.game.place_cue_ball`).
+free spot the player's planner likes best (:func:`pix2pockets.planner.ball_in_hand.best_placement`).
 
 Usage:
     OMP_NUM_THREADS=1 PYTHONPATH=src python benchmarks/games.py [--a search] [--b oracle] [--set blackball]

@@ -10,10 +10,10 @@ import pytest
 from pix2pockets.geometry import table_preset
 from pix2pockets.planner.ball_in_hand import (
     MIN_CUE_DISTANCE,
+    best_placement,
     free_spots,
     grid_spots,
     in_hand_spots,
-    place_cue_ball,
 )
 from pix2pockets.planner.base import Suggestion
 from pix2pockets.rules import GameState, InHand
@@ -76,21 +76,23 @@ def test_no_spot_without_a_legal_ball():
 def test_the_planner_picks_among_the_spots_and_the_cue_ball_goes_there():
     layout = layout_of([1, 2, 8], [(0.6, 0.3), (1.9, 0.9), (1.3, 0.6)])
     planner = Recorder()
-    placed = place_cue_ball(layout, planner, SOLIDS, np.random.default_rng(0), verified=3)
+    placed, top = best_placement(layout, planner, SOLIDS, np.random.default_rng(0), verified=3)
     assert len(planner.seen) == 3
     chosen = max(planner.seen, key=lambda xy: xy[0])
     assert np.allclose(placed.positions[placed.cue_index], chosen)
     assert placed.balls[: len(layout)] == layout.balls
+    assert top.success_probability == pytest.approx(chosen[0] / SPEC.length)
+    assert np.allclose(best_placement(layout, planner, SOLIDS)[0].positions[-1], chosen)
 
 
 def test_without_a_direct_pot_the_planner_tries_a_coarse_grid():
     layout = layout_of([9, 10], [(1.0, 0.6), (2.0, 0.3)])
     planner = Recorder()
-    placed = place_cue_ball(layout, planner, SOLIDS, np.random.default_rng(0), InHand.BAULK)
+    placed, _ = best_placement(layout, planner, SOLIDS, np.random.default_rng(0), InHand.BAULK)
     assert 1 < len(planner.seen) <= 8
     assert placed.positions[placed.cue_index, 0] <= SPEC.baulk_line_x
     with pytest.raises(ValueError, match="already has a cue ball"):
-        place_cue_ball(placed, planner, SOLIDS, np.random.default_rng(0))
+        best_placement(placed, planner, SOLIDS, np.random.default_rng(0))
 
 
 def test_grid_spots_are_free_and_one_per_grid_point_at_most():

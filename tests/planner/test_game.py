@@ -6,9 +6,10 @@ import numpy as np
 import pytest
 
 from pix2pockets.physics import make_simulator
+from pix2pockets.planner.ball_in_hand import best_placement
 from pix2pockets.planner.base import Suggestion
 from pix2pockets.planner.evaluation import ours_protocol
-from pix2pockets.planner.game import GameRecord, place_cue_ball, play_game
+from pix2pockets.planner.game import GameRecord, play_game
 from pix2pockets.planner.noise import noise_model
 from pix2pockets.planner.registry import make_planner
 from pix2pockets.rules import Foul, InHand, Outcome, TurnResult
@@ -70,23 +71,23 @@ def test_a_loss_hands_the_game_to_the_opponent():
 def test_ball_in_hand_goes_to_a_free_spot_the_planner_likes():
     layout = small_layout()
     without = layout.without([layout.cue_index])
-    placed = place_cue_ball(without, make_planner("oracle"), ours_protocol().state, np.random.default_rng(0))
+    placed, _ = best_placement(without, make_planner("oracle"), ours_protocol().state, np.random.default_rng(0))
     assert placed.cue_index is not None and len(placed) == len(layout)  # a valid layout (validated on creation)
     with pytest.raises(ValueError, match="already has a cue ball"):
-        place_cue_ball(layout, make_planner("oracle"), ours_protocol().state, np.random.default_rng(0))
+        best_placement(layout, make_planner("oracle"), ours_protocol().state, np.random.default_rng(0))
 
 
 def test_ball_in_hand_in_baulk_stays_behind_the_baulk_line():
     layout = small_layout()
     without = layout.without([layout.cue_index])
-    placed = place_cue_ball(
+    placed, _ = best_placement(
         without, make_planner("oracle"), ours_protocol().state, np.random.default_rng(0), InHand.BAULK
     )
     assert placed.positions[placed.cue_index, 0] <= layout.spec.baulk_line_x
-    anywhere = place_cue_ball(without, make_planner("oracle"), ours_protocol().state, np.random.default_rng(0))
+    anywhere, _ = best_placement(without, make_planner("oracle"), ours_protocol().state, np.random.default_rng(0))
     assert anywhere.cue_index is not None
     with pytest.raises(ValueError, match="needs an area"):
-        place_cue_ball(without, make_planner("oracle"), ours_protocol().state, np.random.default_rng(0), InHand.NONE)
+        best_placement(without, make_planner("oracle"), ours_protocol().state, np.random.default_rng(0), InHand.NONE)
 
 
 class Recorder(Nudge):

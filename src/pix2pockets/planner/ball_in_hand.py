@@ -1,7 +1,7 @@
 """Ball in hand: where to put the cue ball, and the shot from there.
 
 After a foul the incoming player places the cue ball anywhere free on the table (8-ball), or behind the baulk line
-when it dropped (blackball, WEPF rules). :func:`place_cue_ball` chooses the spot:
+when it dropped (blackball, WEPF rules). :func:`best_placement` chooses the spot:
 
 1. **Spots**: a grid of :data:`SPOT_STEP` over the area, each at least a cue-ball-plus-ball distance (and half a
    radius) from every ball, is scored by the geometric chance of each direct pot from there
@@ -14,8 +14,8 @@ when it dropped (blackball, WEPF rules). :func:`place_cue_ball` chooses the spot
    the planner tries a coarse grid of spots (:data:`FALLBACK_GRID`) instead.
 
 Example:
-    >>> placed = place_cue_ball(layout_without_cue, planner, GameState(Group.SOLIDS), rng)  # doctest: +SKIP
-    >>> placed.positions[placed.cue_index]  # doctest: +SKIP
+    >>> placed, shot = best_placement(layout_without_cue, planner, GameState(Group.SOLIDS), rng)  # doctest: +SKIP
+    >>> placed.positions[placed.cue_index], shot.success_probability  # doctest: +SKIP
 """
 
 from __future__ import annotations
@@ -146,15 +146,3 @@ def best_placement(
         if best_key is None or key > best_key:
             best, best_key = (placed, top), key
     return best
-
-
-def place_cue_ball(
-    layout: TableLayout,
-    planner: Planner,
-    state: GameState,
-    rng: np.random.Generator | None = None,
-    area: InHand = InHand.TABLE,
-    verified: int = VERIFIED_SPOTS,
-) -> TableLayout:
-    """``layout`` with the cue ball put where ``planner`` likes its best shot most (:func:`best_placement`)."""
-    return best_placement(layout, planner, state, rng, area, verified)[0]

@@ -6,7 +6,7 @@ The rules judge one shot at a time (:mod:`pix2pockets.rules`); a game strings th
 - a legal miss ends the visit: the opponent comes to the table, unless the shooter still has a visit owed;
 - a foul hands the opponent ``TurnResult.penalty_visits`` visits (one under 8-ball rules, two under blackball rules)
   and the cue ball where ``TurnResult.in_hand`` says: under 8-ball rules in hand anywhere free on the table
-  (:func:`~pix2pockets.planner.ball_in_hand.place_cue_ball`); under blackball rules where it lies, or in hand behind
+  (:func:`~pix2pockets.planner.ball_in_hand.best_placement`); under blackball rules where it lies, or in hand behind
   the baulk line when it dropped;
 - the black potted legally wins, a loss (the black early, or with a foul) hands the game to the opponent.
 
@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pix2pockets.physics.base import Simulator
-from pix2pockets.planner.ball_in_hand import place_cue_ball
+from pix2pockets.planner.ball_in_hand import best_placement
 from pix2pockets.planner.base import Planner
 from pix2pockets.planner.noise import NoiseModel
 from pix2pockets.rules import GameState, InHand, Judge, Outcome, judge_for
@@ -95,7 +95,7 @@ def play_game(
     while shots < max_shots:
         state = GameState(groups[player])
         if layout.cue_index is None:
-            layout = place_cue_ball(layout, players[player], state, rng, in_hand)
+            layout, _ = best_placement(layout, players[player], state, rng, in_hand)
         suggestion = players[player].suggest(layout, state, rng)[0]
         result = simulator.simulate(layout, noise.perturb(suggestion.shot, rng))
         judged = judge(result, state)

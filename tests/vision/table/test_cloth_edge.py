@@ -172,13 +172,14 @@ def test_a_view_from_above_gets_a_believable_focal_length():
 
 
 def banded_photo(
-    truth: np.ndarray, size: tuple[int, int], rail: tuple[int, int, int], shade: bool = False
+    truth: np.ndarray, size: tuple[int, int], rail: tuple[int, int, int], shade: bool = False, rail_out: float = 1.035
 ) -> np.ndarray:
-    """A dark table body, a rail band round the cloth outline ``truth`` (4, 2) [px], a light blue-grey cloth inside
-    it and, with ``shade``, the cloth in shadow along its edge (a cushion's dark face)."""
+    """A dark table body, a rail band round the cloth outline ``truth`` (4, 2) [px] out to ``truth`` grown by
+    ``rail_out`` from its centre, a light blue-grey cloth inside it and, with ``shade``, the cloth in shadow along its
+    edge (a cushion's dark face)."""
     img = np.zeros((size[1], size[0], 3), np.uint8)
     img[:] = (30, 24, 28)  # the table's dark body and the floor
-    cv2.fillPoly(img, [np.round(grown(truth, 1.035) - 0.5).astype(np.int32)], rail)
+    cv2.fillPoly(img, [np.round(grown(truth, rail_out) - 0.5).astype(np.int32)], rail)
     cv2.fillPoly(img, [np.round(truth - 0.5).astype(np.int32)], (150, 178, 196))
     if shade:
         cv2.fillPoly(img, [np.round(truth - 0.5).astype(np.int32)], (75, 89, 98))
@@ -221,3 +222,28 @@ def test_the_cloth_in_shadow_inside_its_edge_does_not_pull_the_line_in():
     assert corner_error(start, truth) > 3.0
     snapped = snap_to_cloth_edge(img, start, colour, reach=16.0)
     assert corner_error(snapped.corners_px, truth) < 1.5
+
+
+def test_an_outline_round_a_light_rail_moves_in_onto_the_cloth():
+    """The model's outline on a white rail's outer edge: the band inside it is rail, not cloth, so the cloth's edge is
+    the rail's inner edge, although the rail's outer edge is the nearer and the steeper."""
+    camera = view("oblique")
+    truth = true_outline(camera)
+    img = banded_photo(truth, camera.image_size, rail=(235, 235, 238), rail_out=1.05)
+    colour = cloth_colour(img, region(grown(truth, 0.9), camera.image_size))
+    start = grown(truth, 1.05)
+    assert corner_error(start, truth) > 8.0
+    snapped = snap_to_cloth_edge(img, start, colour, reach=16.0)
+    assert corner_error(snapped.corners_px, truth) < 1.5
+
+
+def test_a_lit_band_of_the_cloths_hue_is_no_rail():
+    """A band of the cloth's own hue, lighter (a cushion top in the light), inside an outline on its outer edge is
+    cloth: the outline stays on the band's outer edge."""
+    camera = view("oblique")
+    truth = true_outline(camera)
+    img = banded_photo(truth, camera.image_size, rail=(175, 218, 245), rail_out=1.05)  # the cloth's blue-grey, lit
+    colour = cloth_colour(img, region(grown(truth, 0.9), camera.image_size))
+    outer = grown(truth, 1.05)
+    snapped = snap_to_cloth_edge(img, outer, colour, reach=16.0)
+    assert corner_error(snapped.corners_px, outer) < 1.5

@@ -53,12 +53,19 @@ OFF_CLOTH = 1.5
 SHADOW_HUE_DEG = 30.0
 """... and is not the cloth in shadow: darker than the cloth with its hue within this many degrees, or darker and
 greyer (less than half its chroma) ..."""
+GREY_CHROMA = 8.0
+"""A cloth with less Lab chroma than this is grey: its hue says nothing."""
 SHADOW_DARKER = 5.0
 """... where darker means at least this much lower in Lab lightness (a grey or silver rail as light as the cloth is no
 shadow)."""
 CONTRAST_STEP = 1.5
 """Contrast across a line is read this many pixels either side of it."""
 MIN_GAIN = 0.15
+RAIL_BAND_SHARE = 0.8
+"""Share of a band inside a side's edge that must be off the cloth (and not the cloth in other light) for it to be a
+rail, whose inner edge is then the cloth's edge."""
+RAIL_MIN_PX = 3.0
+"""Narrowest band [px] tested as a rail."""
 """A new line must separate cloth from rail by this much more than the old (colour-distance units)."""
 FIRST_REACH = 0.05
 """The first search reaches this share of the table's length in the photo either side of each side ..."""
@@ -118,9 +125,7 @@ def _distance(rgb: np.ndarray, pts: np.ndarray, colour: np.ndarray) -> np.ndarra
     """Distance from the cloth's colour (in its tolerance steps) of the photo sampled at ``pts`` (..., 2) [pixel
     indices]; points off the photo read as far."""
     h, w = rgb.shape[:2]
-    flat = pts.reshape(-1, 1, 2).astype(np.float32)
-    samples = cv2.remap(rgb, flat[..., 0], flat[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-    d = plain_distance(lab_of(samples).reshape(-1, 3), colour).reshape(pts.shape[:-1])
+    d = plain_distance(_lab_at(rgb, pts).reshape(-1, 3), colour).reshape(pts.shape[:-1])
     off = (pts[..., 0] < 0) | (pts[..., 0] > w - 1) | (pts[..., 1] < 0) | (pts[..., 1] > h - 1)
     return np.where(off, np.nan, d)
 
@@ -143,6 +148,42 @@ def line_contrast(rgb: np.ndarray, line: np.ndarray, a: np.ndarray, b: np.ndarra
     return float(np.median(diff)) if len(diff) >= SAMPLES // 4 else -math.inf
 
 
+def cloth_hued(lab: np.ndarray, colour: np.ndarray) -> np.ndarray:
+    """Whether CIE Lab colours (..., 3) are the cloth ``colour`` in other light: its hue within
+    :data:`SHADOW_HUE_DEG` and at least half its chroma (all False for a grey cloth, whose hue says nothing)."""
+    chroma = math.hypot(float(colour[1]), float(colour[2]))
+    if chroma < GREY_CHROMA:
+        return np.zeros(lab.shape[:-1], dtype=bool)
+    hue = math.atan2(float(colour[2]), float(colour[1]))
+    turn = np.abs((np.arctan2(lab[..., 2], lab[..., 1]) - hue + math.pi) % (2 * math.pi) - math.pi)
+    return (turn < math.radians(SHADOW_HUE_DEG)) & (np.hypot(lab[..., 1], lab[..., 2]) >= 0.5 * chroma)
+
+
+def rail_between(
+    rgb: np.ndarray, inner: np.ndarray, outer: np.ndarray, a: np.ndarray, b: np.ndarray, colour: np.ndarray
+) -> bool:
+    """Whether the band from line ``inner`` out to line ``outer`` (normals out of the cloth) along side ``a``-``b`` is
+    a rail, not cloth: ``inner`` lies at least :data:`RAIL_MIN_PX` inside ``outer``, and at least
+    :data:`RAIL_BAND_SHARE` of the band's samples (a third and two thirds of the way across, on every profile) are
+    off the cloth's colour (:data:`OFF_CLOTH`) and not the cloth in other light (:func:`cloth_hued`: a lit cushion
+    top)."""
+    base = _along(a, b, inner)
+    gap = -(base @ outer[:2] + outer[2])  # how far inside ``outer`` each point of ``inner`` lies [px]
+    if np.median(gap) < RAIL_MIN_PX:
+        return False
+    pts = np.stack([base + f * gap[:, None] * inner[:2][None] for f in (1 / 3, 2 / 3)], axis=1)
+    off = _distance(rgb, pts, colour) >= OFF_CLOTH
+    off &= ~cloth_hued(_lab_at(rgb, pts), colour)
+    return float(np.mean(off)) >= RAIL_BAND_SHARE
+
+
+def _lab_at(rgb: np.ndarray, pts: np.ndarray) -> np.ndarray:
+    """CIE Lab (..., 3) of the photo sampled at ``pts`` (..., 2) [pixel indices]."""
+    flat = pts.reshape(-1, 1, 2).astype(np.float32)
+    samples = cv2.remap(rgb, flat[..., 0], flat[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    return lab_of(samples).reshape(*pts.shape[:-1], 3)
+
+
 def _edge_line(points: np.ndarray, line: np.ndarray) -> np.ndarray | None:
     """A robust line through edge points (n, 2), its normal the way of ``line``'s; None unless enough profiles lie on
     it (:data:`MIN_INLIER_SHARE`) and it turns less than :data:`MAX_TURN_DEG` from ``line``."""
@@ -161,9 +202,7 @@ def _innermost_rises(
     """Each profile's innermost clear rise away from the cloth (see the module docstring): the profiles' points
     (n, m, 2) [pixel indices], their colour distances (n, m) and its rises (n, m - 1); returns the rises' points
     (k, 2) [pixel indices]."""
-    flat = profiles.reshape(-1, 1, 2).astype(np.float32)
-    samples = cv2.remap(rgb, flat[..., 0], flat[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-    lab = lab_of(samples).reshape(*profiles.shape[:2], 3)
+    lab = _lab_at(rgb, profiles)
     chroma = math.hypot(float(colour[1]), float(colour[2]))
     hue = math.atan2(float(colour[2]), float(colour[1]))
     m = dist.shape[1]
@@ -177,7 +216,7 @@ def _innermost_rises(
     darker = beyond[..., 0] < colour[0] - SHADOW_DARKER
     their_chroma = np.hypot(beyond[..., 1], beyond[..., 2])
     turn = np.abs((np.arctan2(beyond[..., 2], beyond[..., 1]) - hue + math.pi) % (2 * math.pi) - math.pi)
-    if chroma < 8.0:
+    if chroma < GREY_CHROMA:
         shadow = darker
     else:
         shadow = darker & ((their_chroma < 0.5 * chroma) | (turn < math.radians(SHADOW_HUE_DEG)))
@@ -242,7 +281,10 @@ def snap_to_cloth_edge(
         inner = _innermost_rises(rgb, profiles[strong], dist[strong], grad[strong], colour)
         inner_line = _edge_line(inner, line) if len(inner) else None
         middle = 0.5 * (a + b)
-        if inner_line is not None and abs(middle @ inner_line[:2] + inner_line[2]) < abs(middle @ new[:2] + new[2]):
+        if inner_line is not None and (
+            abs(middle @ inner_line[:2] + inner_line[2]) < abs(middle @ new[:2] + new[2])
+            or rail_between(rgb, inner_line, new, a, b, colour)
+        ):
             new = inner_line
         gained = line_contrast(rgb, new, a, b, colour)
         if gained >= contrast[k] + MIN_GAIN:
