@@ -101,3 +101,13 @@ def test_grid_spots_are_free_and_one_per_grid_point_at_most():
     assert 1 < len(spots) <= 8
     assert np.linalg.norm(spots[:, None] - layout.positions[None], axis=2).min() >= SPEC.cue_contact_distance
     assert np.all(grid_spots(layout, InHand.BAULK)[:, 0] <= SPEC.baulk_line_x)
+
+
+def test_a_planner_with_nothing_to_suggest_is_a_clear_error():
+    class Silent:
+        def suggest(self, layout, state, rng=None):
+            return []
+
+    layout = layout_of([1, 2], [(0.6, 0.3), (1.9, 0.9)])
+    with pytest.raises(ValueError, match="found no shot from any free spot"):
+        best_placement(layout, Silent(), SOLIDS)

@@ -128,7 +128,8 @@ def best_placement(
     success estimate, then its value.
 
     Raises:
-        ValueError: the layout already has a cue ball, ``area`` is :attr:`InHand.NONE`, or no spot is free.
+        ValueError: the layout already has a cue ball, ``area`` is :attr:`InHand.NONE`, no spot is free, or the planner
+            suggests nothing from any of them.
     """
     if layout.cue_index is not None:
         raise ValueError("the layout already has a cue ball; ball in hand places a missing one")
@@ -141,8 +142,13 @@ def best_placement(
     best, best_key = None, None
     for xy in spots:
         placed = TableLayout((*layout.balls, Ball.numbered(0)), np.vstack([layout.positions, xy]), layout.spec)
-        top = planner.suggest(placed, state, rng)[0]
+        suggestions = planner.suggest(placed, state, rng)
+        if not suggestions:
+            continue
+        top = suggestions[0]
         key = (top.success_probability or 0.0, top.value)
         if best_key is None or key > best_key:
             best, best_key = (placed, top), key
+    if best is None:
+        raise ValueError("the planner found no shot from any free spot for the cue ball")
     return best
