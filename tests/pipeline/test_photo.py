@@ -136,6 +136,8 @@ def test_ball_in_hand_puts_the_cue_ball_where_the_planner_likes_it(drop):
     render_result(blank_image(cam), res)
     baulk = suggest(blank_image(cam), "solids", detector, NearestPocketPlanner(), SPEC, ball_in_hand="baulk")
     assert baulk.balls[-1].table_xy_m[0] <= SPEC.baulk_line_x and baulk.to_dict()["ball_in_hand"] == "baulk"
+    either = suggest(blank_image(cam), "auto", detector, NearestPocketPlanner(), SPEC, ball_in_hand="table")
+    assert either.shot.group in ("solids", "stripes") and either.balls[-1].in_hand
 
 
 def test_without_ball_in_hand_the_cue_ball_is_played_where_it_lies():

@@ -305,8 +305,9 @@ def suggest(
     planner = planner_for_set(planner or default_planner(skill=skill), chosen)
     group_asked = wanted if wanted == "auto" else wanted.value
     position_cov = position_covariances(fit.camera, layout.positions, spec.ball_radius, fit.rms_px)
-    if in_hand is not InHand.NONE:
-        layout = place_in_hand(layout, group_asked, planner, in_hand, rng)
+    if in_hand is not InHand.NONE:  # placed for the better group when asked for either: the shot is for that one
+        layout, placed_for = place_in_hand(layout, group_asked, planner, in_hand, rng)
+        group_asked = placed_for.value
         position_cov = np.concatenate([position_cov.reshape(-1, 2, 2), np.zeros((1, 2, 2))])  # put there exactly
     advice = plan_shot(layout, group_asked, planner, rng, position_sigma=position_cov)
     advice = replace(advice, group=group_name(advice.group, chosen))

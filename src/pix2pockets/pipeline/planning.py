@@ -229,23 +229,23 @@ def place_in_hand(
     planner: ShotPlanner,
     area: InHand,
     rng: np.random.Generator | None = None,
-) -> TableLayout:
+) -> tuple[TableLayout, Group]:
     """Ball in hand: ``layout`` without its cue ball (the player picks it up), the cue ball put back where
     ``planner`` likes the best shot for ``group`` most (``auto``: for the group with the better shot;
     :func:`~pix2pockets.planner.ball_in_hand.best_placement`), anywhere free on the table or behind the baulk line
-    (``area``). The placed cue ball is the layout's last ball.
+    (``area``). Returns the layout, its placed cue ball last, and the group it was placed for.
 
     Raises:
         ValueError: as :func:`groups_to_plan`, or no free spot in ``area``.
     """
     base = layout if layout.cue_index is None else layout.without([layout.cue_index])
-    best: tuple[float, TableLayout] | None = None
+    best: tuple[float, TableLayout, Group] | None = None
     for g in groups_to_plan(base, group):
         placed, top = best_placement(base, planner, GameState(group=g), rng, area)
         score = _value_of(top) - (1e3 if top.safety else 0.0)
         if best is None or score > best[0]:
-            best = (score, placed)
-    return best[1]
+            best = (score, placed, g)
+    return best[1], best[2]
 
 
 def plan_shot(
