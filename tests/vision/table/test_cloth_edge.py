@@ -9,7 +9,7 @@ import numpy as np
 
 from pix2pockets.geometry import PinholeCamera, TableSpec
 from pix2pockets.vision.detect.analytic import standard_views
-from pix2pockets.vision.table.cloth_edge import cloth_colour, colour_region, snap_fit, snap_to_cloth_edge
+from pix2pockets.vision.table.cloth_edge import cloth_colour, cloth_hued, colour_region, snap_fit, snap_to_cloth_edge
 from pix2pockets.vision.table.outline_camera import camera_through_outline, outline_rectangle
 from pix2pockets.vision.table.outline_fit import fit_outline
 from tests.vision.table.test_cloth import corner_error, draw_table_photo, view
@@ -247,3 +247,10 @@ def test_a_lit_band_of_the_cloths_hue_is_no_rail():
     outer = grown(truth, 1.05)
     snapped = snap_to_cloth_edge(img, outer, colour, reach=16.0)
     assert corner_error(snapped.corners_px, outer) < 1.5
+
+
+def test_cloth_hued_is_the_cloths_hue_in_other_light_only():
+    cloth = np.array([50.0, -20.0, -10.0])  # a blue-green cloth, CIE Lab
+    lab = np.array([[70.0, -26.0, -12.0], [30.0, -12.0, -7.0], [60.0, 0.0, 0.0], [50.0, 20.0, 10.0]])
+    assert cloth_hued(lab, cloth).tolist() == [True, True, False, False]  # lit, shaded, grey, the opposite hue
+    assert not cloth_hued(lab, np.array([50.0, 1.0, -1.0])).any()  # a grey cloth's hue says nothing
