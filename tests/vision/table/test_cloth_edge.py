@@ -187,66 +187,53 @@ def banded_photo(
     return img
 
 
+def snap_banded(
+    rail: tuple[int, int, int], start: float, rail_out: float = 1.035, shade: bool = False
+) -> tuple[np.ndarray, np.ndarray]:
+    """The true cloth outline of an oblique view of :func:`banded_photo` and that photo's outline snapped from the
+    true one grown by ``start`` (16 px reach)."""
+    camera = view("oblique")
+    truth = true_outline(camera)
+    img = banded_photo(truth, camera.image_size, rail=rail, shade=shade, rail_out=rail_out)
+    colour = cloth_colour(img, region(grown(truth, 0.9), camera.image_size))
+    return truth, snap_to_cloth_edge(img, grown(truth, start), colour, reach=16.0).corners_px
+
+
 def test_a_light_rail_beside_a_light_cloth_is_not_taken_for_the_cloth():
     """White laminate beside a light cloth differs less from the cloth than the dark body beyond it: the snap keeps
     the innermost clear rise, the cloth's edge, not the steepest one, the rail's outer edge."""
-    camera = view("oblique")
-    truth = true_outline(camera)
-    img = banded_photo(truth, camera.image_size, rail=(230, 230, 235))
-    colour = cloth_colour(img, region(grown(truth, 0.9), camera.image_size))
-    start = grown(truth, 0.985)
-    assert corner_error(start, truth) > 3.0
-    snapped = snap_to_cloth_edge(img, start, colour, reach=16.0)
-    assert corner_error(snapped.corners_px, truth) < 1.5
+    truth, snapped = snap_banded((230, 230, 235), start=0.985)
+    assert corner_error(grown(truth, 0.985), truth) > 3.0
+    assert corner_error(snapped, truth) < 1.5
 
 
 def test_a_silver_rail_a_little_darker_than_the_cloth_is_no_shadow():
     """A grey rail nearly as light as the cloth (silver trim) is greyer and a shade darker, yet no cushion's shadow:
     its edge is the cloth's, not the dark body's beyond it."""
-    camera = view("oblique")
-    truth = true_outline(camera)
-    img = banded_photo(truth, camera.image_size, rail=(165, 166, 168))
-    colour = cloth_colour(img, region(grown(truth, 0.9), camera.image_size))
-    start = grown(truth, 0.97)
-    snapped = snap_to_cloth_edge(img, start, colour, reach=16.0)
-    outer_edge = corner_error(grown(truth, 1.035), truth)
-    assert corner_error(snapped.corners_px, truth) < 0.6 * outer_edge
+    truth, snapped = snap_banded((165, 166, 168), start=0.97)
+    assert corner_error(snapped, truth) < 0.6 * corner_error(grown(truth, 1.035), truth)
 
 
 def test_the_cloth_in_shadow_inside_its_edge_does_not_pull_the_line_in():
-    camera = view("oblique")
-    truth = true_outline(camera)
-    img = banded_photo(truth, camera.image_size, rail=(120, 70, 40), shade=True)  # a wooden rail
-    colour = cloth_colour(img, region(grown(truth, 0.9), camera.image_size))
-    start = grown(truth, 0.97)  # inside the shadow, nearer its inner edge than the cloth's edge
-    assert corner_error(start, truth) > 3.0
-    snapped = snap_to_cloth_edge(img, start, colour, reach=16.0)
-    assert corner_error(snapped.corners_px, truth) < 1.5
+    # a wooden rail; the start inside the shadow, nearer its inner edge than the cloth's edge
+    truth, snapped = snap_banded((120, 70, 40), start=0.97, shade=True)
+    assert corner_error(grown(truth, 0.97), truth) > 3.0
+    assert corner_error(snapped, truth) < 1.5
 
 
 def test_an_outline_round_a_light_rail_moves_in_onto_the_cloth():
     """The model's outline on a white rail's outer edge: the band inside it is rail, not cloth, so the cloth's edge is
     the rail's inner edge, although the rail's outer edge is the nearer and the steeper."""
-    camera = view("oblique")
-    truth = true_outline(camera)
-    img = banded_photo(truth, camera.image_size, rail=(235, 235, 238), rail_out=1.05)
-    colour = cloth_colour(img, region(grown(truth, 0.9), camera.image_size))
-    start = grown(truth, 1.05)
-    assert corner_error(start, truth) > 8.0
-    snapped = snap_to_cloth_edge(img, start, colour, reach=16.0)
-    assert corner_error(snapped.corners_px, truth) < 1.5
+    truth, snapped = snap_banded((235, 235, 238), start=1.05, rail_out=1.05)
+    assert corner_error(grown(truth, 1.05), truth) > 8.0
+    assert corner_error(snapped, truth) < 1.5
 
 
 def test_a_lit_band_of_the_cloths_hue_is_no_rail():
     """A band of the cloth's own hue, lighter (a cushion top in the light), inside an outline on its outer edge is
     cloth: the outline stays on the band's outer edge."""
-    camera = view("oblique")
-    truth = true_outline(camera)
-    img = banded_photo(truth, camera.image_size, rail=(175, 218, 245), rail_out=1.05)  # the cloth's blue-grey, lit
-    colour = cloth_colour(img, region(grown(truth, 0.9), camera.image_size))
-    outer = grown(truth, 1.05)
-    snapped = snap_to_cloth_edge(img, outer, colour, reach=16.0)
-    assert corner_error(snapped.corners_px, outer) < 1.5
+    truth, snapped = snap_banded((175, 218, 245), start=1.05, rail_out=1.05)  # the cloth's blue-grey, lit
+    assert corner_error(snapped, grown(truth, 1.05)) < 1.5
 
 
 def test_cloth_hued_is_the_cloths_hue_in_other_light_only():
