@@ -46,7 +46,16 @@ def artifacts() -> Path:
 @pytest.fixture(scope="module")
 def server(rendered):
     """The app on a free port of 127.0.0.1 (stand-in detector and planner), served by uvicorn in a thread."""
-    app = create_app(LabelsDetector(rendered[1]), NearestPocketPlanner())
+    yield from _serve(create_app(LabelsDetector(rendered[1]), NearestPocketPlanner()))
+
+
+@pytest.fixture(scope="module")
+def server_without_cue(rendered):
+    """As :func:`server`, with a detector that does not see the cue ball."""
+    yield from _serve(create_app(LabelsDetector(rendered[1], ("cue",)), NearestPocketPlanner()))
+
+
+def _serve(app):
     sock = socket.socket()
     sock.bind(("127.0.0.1", 0))
     config = uvicorn.Config(app, log_level="warning", lifespan="on")
@@ -166,3 +175,24 @@ def test_a_bad_file_shows_its_error(page, artifacts, tmp_path):
     assert not browser.find_element(By.ID, "result").is_displayed()
     assert all(b.is_enabled() for b in browser.find_elements(By.TAG_NAME, "button"))
     _screenshot(browser, artifacts / f"bad-file-{kind}.png")
+
+
+def test_a_photo_without_a_cue_ball_offers_ball_in_hand(server_without_cue, artifacts):
+    from selenium.webdriver.common.by import By
+
+    browser = _browser(DESKTOP, False)
+    try:
+        browser.get(server_without_cue)
+        retry = browser.find_element(By.ID, "in-hand-retry")
+        assert not retry.is_displayed()
+        browser.find_element(By.ID, "example").click()
+        status = _wait(browser, lambda b: b.find_element(By.CSS_SELECTOR, "#status.bad"), 60)
+        assert "ask for ball in hand" in status.text and retry.is_displayed()
+        retry.click()
+        _wait(browser, lambda b: b.execute_script("return document.body.dataset.shown"))
+        assert browser.find_element(By.ID, "answer").text.startswith("Ball in hand: cue ball at")
+        assert browser.find_element(By.ID, "in-hand").get_attribute("value") == "table"
+        assert not retry.is_displayed()
+        _screenshot(browser, artifacts / "ball-in-hand-desktop.png")
+    finally:
+        browser.quit()
