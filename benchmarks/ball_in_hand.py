@@ -14,7 +14,6 @@ Usage:
 
 from __future__ import annotations
 
-import argparse
 import json
 import os
 import time
@@ -23,29 +22,20 @@ import numpy as np
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
-from pix2pockets.physics import make_simulator
+from _racks import rack_parser, rack_setup
 from pix2pockets.planner.ball_in_hand import best_placement, grid_spots
 from pix2pockets.planner.chance import measure_chance
-from pix2pockets.planner.evaluation import ours_protocol, play_turn
-from pix2pockets.planner.noise import noise_model
-from pix2pockets.planner.search import SearchConfig, SearchPlanner
+from pix2pockets.planner.evaluation import play_turn
 
 METHODS = ("straight-in spots", "4 x 2 grid")
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--racks", type=int, default=150)
-    ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--skill", default="pro")
+    ap = rack_parser(__doc__, 150)
     ap.add_argument("--samples", type=int, default=200, help="noisy executions behind each first shot's chance")
-    ap.add_argument("--json", default=None)
     args = ap.parse_args(argv)
 
-    planner = SearchPlanner(SearchConfig(time_budget=None, noise=args.skill))
-    noise = noise_model(args.skill)
-    sim = make_simulator("event")
-    proto = ours_protocol()
+    planner, noise, sim, proto = rack_setup(args.skill)
     rows = {m: {"chance": [], "cleared": [], "seconds": []} for m in METHODS}
     for i in range(args.racks):
         full = proto.layout(16, args.seed, i)

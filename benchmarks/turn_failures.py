@@ -15,7 +15,6 @@ Usage:
 
 from __future__ import annotations
 
-import argparse
 import json
 import math
 import os
@@ -25,13 +24,11 @@ import numpy as np
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
-from pix2pockets.physics import make_simulator
+from _racks import rack_parser, rack_setup
 from pix2pockets.planner.ball_in_hand import free_spots
 from pix2pockets.planner.base import legal_targets
-from pix2pockets.planner.evaluation import continues_or_wins, ours_protocol
-from pix2pockets.planner.noise import noise_model
+from pix2pockets.planner.evaluation import continues_or_wins
 from pix2pockets.planner.position import direct_pot_probabilities
-from pix2pockets.planner.search import SearchConfig, SearchPlanner
 from pix2pockets.rules import GameState, Outcome
 
 LOW_CHANCE = 0.8
@@ -76,17 +73,10 @@ def play(layout, state, planner, simulate, noise, judge, success, rng: np.random
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--racks", type=int, default=200)
-    ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--skill", default="pro")
-    ap.add_argument("--json", default=None)
+    ap = rack_parser(__doc__, 200)
     args = ap.parse_args(argv)
 
-    planner = SearchPlanner(SearchConfig(time_budget=None, noise=args.skill))
-    noise = noise_model(args.skill)
-    sim = make_simulator("event")
-    proto = ours_protocol()
+    planner, noise, sim, proto = rack_setup(args.skill)
     success = proto.success or continues_or_wins
     turns = []
     for i in range(args.racks):
