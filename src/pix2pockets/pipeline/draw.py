@@ -235,7 +235,6 @@ def draw_diagram(result: Suggestion, height: int, cloth: tuple[int, int, int] = 
         if ball.sure_number is not None:
             _draw_number(img, c, ball.sure_number, r)
         cv2.circle(img, c, r, (0, 0, 0), 1, cv2.LINE_AA)
-    for ball, c in zip(result.balls, centres, strict=True):
         if ball.in_hand:
             cv2.circle(img, c, int(r * 1.6), IN_HAND, thick, cv2.LINE_AA)
     if shot.ghost is not None:

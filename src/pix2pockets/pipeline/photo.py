@@ -29,7 +29,7 @@ from pix2pockets.vision.detect.base import Detector
 from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.detect.postprocess import DEFAULT_NMS_IOU, apply_caps, box_iou, resolve_ball_classes
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.locate.balls import LocatedBalls, LocateMethod, locate_balls, on_the_table
+from pix2pockets.vision.locate.balls import LocatedBalls, LocateMethod, locate_balls, on_the_table, sphere_boxes
 from pix2pockets.vision.locate.position_error import position_covariances, position_sigmas
 from pix2pockets.vision.stages.ball_classifier import NUMBER_PROBS
 from pix2pockets.vision.stages.ball_colours import BALL_COLOUR, RED, YELLOW, blackball_classes, read_ball_set
@@ -378,16 +378,13 @@ def parse_in_hand(ball_in_hand: InHand | str | None) -> InHand:
 def placed_cue_ball(camera: PinholeCamera, xy: np.ndarray, spec: TableSpec) -> LocatedBall:
     """The cue ball put at ``xy`` [m] by ball in hand, as a located ball: its box and contact point where it would
     be seen in the photo."""
-    r = spec.ball_radius
-    contact = camera.project_table(xy, 0.0)
-    ring = xy + r * np.stack([np.cos(np.linspace(0, 2 * np.pi, 24)), np.sin(np.linspace(0, 2 * np.pi, 24))], axis=1)
-    outline = np.vstack([camera.project_table(ring, r), contact[None], camera.project_table(xy, 2 * r)[None]])
-    box = (*np.nanmin(outline, axis=0), *np.nanmax(outline, axis=0))
+    r = spec.cue_radius
+    box = sphere_boxes(camera, np.array([xy[0], xy[1], r]), r)[0]
     return LocatedBall(
         "cue",
         1.0,
         tuple(float(v) for v in box),
-        tuple(float(v) for v in contact),
+        tuple(float(v) for v in camera.project_table(xy, 0.0)),
         tuple(float(v) for v in xy),
         tuple(float(v) for v in table_to_env_pixels(xy, spec)),
         0,

@@ -61,12 +61,12 @@ shadow)."""
 CONTRAST_STEP = 1.5
 """Contrast across a line is read this many pixels either side of it."""
 MIN_GAIN = 0.15
+"""A new line must separate cloth from rail by this much more than the old (colour-distance units)."""
 RAIL_BAND_SHARE = 0.8
 """Share of a band inside a side's edge that must be off the cloth (and not the cloth in other light) for it to be a
 rail, whose inner edge is then the cloth's edge."""
 RAIL_MIN_PX = 3.0
 """Narrowest band [px] tested as a rail."""
-"""A new line must separate cloth from rail by this much more than the old (colour-distance units)."""
 FIRST_REACH = 0.05
 """The first search reaches this share of the table's length in the photo either side of each side ..."""
 MIN_REACH_PX = 6.0
@@ -154,9 +154,14 @@ def cloth_hued(lab: np.ndarray, colour: np.ndarray) -> np.ndarray:
     chroma = math.hypot(float(colour[1]), float(colour[2]))
     if chroma < GREY_CHROMA:
         return np.zeros(lab.shape[:-1], dtype=bool)
+    return _same_hue(lab, colour) & (np.hypot(lab[..., 1], lab[..., 2]) >= 0.5 * chroma)
+
+
+def _same_hue(lab: np.ndarray, colour: np.ndarray) -> np.ndarray:
+    """Whether CIE Lab colours (..., 3) lie within :data:`SHADOW_HUE_DEG` of the hue of ``colour``."""
     hue = math.atan2(float(colour[2]), float(colour[1]))
     turn = np.abs((np.arctan2(lab[..., 2], lab[..., 1]) - hue + math.pi) % (2 * math.pi) - math.pi)
-    return (turn < math.radians(SHADOW_HUE_DEG)) & (np.hypot(lab[..., 1], lab[..., 2]) >= 0.5 * chroma)
+    return turn < math.radians(SHADOW_HUE_DEG)
 
 
 def rail_between(
@@ -204,7 +209,6 @@ def _innermost_rises(
     (k, 2) [pixel indices]."""
     lab = _lab_at(rgb, profiles)
     chroma = math.hypot(float(colour[1]), float(colour[2]))
-    hue = math.atan2(float(colour[2]), float(colour[1]))
     m = dist.shape[1]
     peak = np.zeros_like(grad, dtype=bool)  # local maxima of the rise
     peak[:, 1:-1] = (grad[:, 1:-1] >= grad[:, :-2]) & (grad[:, 1:-1] >= grad[:, 2:])
@@ -215,11 +219,8 @@ def _innermost_rises(
     beyond = lab[:, past]
     darker = beyond[..., 0] < colour[0] - SHADOW_DARKER
     their_chroma = np.hypot(beyond[..., 1], beyond[..., 2])
-    turn = np.abs((np.arctan2(beyond[..., 2], beyond[..., 1]) - hue + math.pi) % (2 * math.pi) - math.pi)
-    if chroma < GREY_CHROMA:
-        shadow = darker
-    else:
-        shadow = darker & ((their_chroma < 0.5 * chroma) | (turn < math.radians(SHADOW_HUE_DEG)))
+    greyer_or_same_hue = (their_chroma < 0.5 * chroma) | _same_hue(beyond, colour)
+    shadow = darker if chroma < GREY_CHROMA else darker & greyer_or_same_hue
     rises &= ~shadow
     found = rises.any(axis=1)
     first = np.argmax(rises, axis=1)[found]
