@@ -71,6 +71,20 @@ def test_a_corner_view_cut_on_three_edges_shows_the_cushions_in_view():
     assert np.linalg.norm(outline.corners_px - truth[order], axis=1).max() < 6.0
 
 
+@pytest.mark.parametrize("far", [[[386.0, 164.0], [184.0, 160.0]], [[360.0, 150.0], [220.0, 148.0]]])
+def test_a_short_far_cushion_is_not_merged_into_the_long_ones_when_a_corner_is_cut(far):
+    """A low view along the table, one near corner out of the photo: the region's edge runs along the short far
+    cushion, both long cushions and the near one, and along the frame. The smallest quadrilateral round it can drop
+    the short far cushion (the long cushions, extended, meet just beyond it) instead of the frame's stretch; the
+    cushions read off the frame keep all four."""
+    truth = np.array([[711.0, 332.0], *far, [-250.0, 420.0]])
+    outline = surface_outline(cues_of(truth))
+    assert outline.seen.all()
+    order = [int(np.argmin(np.linalg.norm(truth - c, axis=1))) for c in outline.corners_px]
+    assert sorted(order) == [0, 1, 2, 3]
+    assert np.linalg.norm(outline.corners_px - truth[order], axis=1).max() < 8.0
+
+
 def test_a_band_across_the_photo_shows_only_two_cushions():
     """Looking along the table from close up: only the two long cushions are in view; no third line is made up."""
     band = np.array([[-200.0, 120.0], [1000.0, 100.0], [1000.0, 330.0], [-200.0, 360.0]])

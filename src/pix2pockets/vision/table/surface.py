@@ -6,7 +6,9 @@ smallest quadrilateral enclosing the region's hull splits the boundary among fou
 each side's boundary points is a cushion line. A side the boundary does not follow (the frame edge cuts it) is
 kept from the quadrilateral and marked unseen. Where the frame cuts the region so that its edges take sides of that
 quadrilateral (fewer than three cushions left), the cushions are read from the region's edge off the frame instead,
-one straight run after another, and the frame closes a fourth side only where none is in view. Side-pocket peaks
+one straight run after another, and the frame closes a fourth side only where none is in view. Those runs win too
+where they find more cushions than the quadrilateral and agree with the surface at least as well (a short far
+cushion the quadrilateral merged into the long ones, a near corner being out of the photo). Side-pocket peaks
 near the middle of a side mark it as a long rail.
 
 The model's corner peaks give a second hypothesis: four of them round a convex quadrilateral. Where the surface
@@ -309,10 +311,14 @@ def surface_outline(
         corners = quad
     seen = support >= SEEN_SUPPORT
     share = region.sum() * cell_area / (w * h)
-    if on_frame.any() and seen.sum() < 3 and share <= MAX_CUT_REGION_SHARE:  # frame edges took sides: read cushions
+    if on_frame.any() and share <= MAX_CUT_REGION_SHARE:  # frame edges may have taken sides: read cushions
         cut = _cut_region_sides(points, on_frame, tol, (w, h))
         if cut is not None and cut[1].sum() > seen.sum():
-            corners, seen = _corners_of(cut[0]), cut[1]
+            cut_corners = _corners_of(cut[0])
+            # with three cushions or more, a short one merged into its neighbours must show: more cushions, and an
+            # outline that agrees with the surface at least as well
+            if seen.sum() < 3 or surface_agreement(cues, cut_corners) >= surface_agreement(cues, corners):
+                corners, seen = cut_corners, cut[1]
     corners, from_peak = _snap_to_peaks(corners, cues)
     alternative = None  # the four peaks' corners, where they lose but would give another fit
     all_peaks = np.ones(4, dtype=bool)
