@@ -32,6 +32,9 @@ FOCAL_RANGE = (0.3, 8.0)
 COS_SIGMA = 0.03  # expected error of the cosine between the table's axes seen through the corners
 RATIO_SIGMA = 0.04  # expected error of the log length ratio of the table's axes
 FOCAL_SIGMA = 0.7  # log-normal prior on the focal length around the larger image side
+OFF_FRAME_HALF = 0.02
+"""Distance of an outline corner outside the photo, as a share of the image diagonal, that halves its weight in a
+fit (:func:`off_frame_weights`)."""
 MAX_CONDITION = 1e4  # condition number above which an outline does not fix both focal lengths
 
 
@@ -119,18 +122,20 @@ def refined(
     image: np.ndarray,
     focal_prior: float,
     focal_sigma: float = FOCAL_SIGMA,
+    weights: np.ndarray | None = None,
 ) -> PinholeCamera:
     """``camera`` refined by least squares on the points ``world3`` (n, 3) [m] seen at ``image`` (n, 2) [px]: focal
     length, rotation and translation, with a log-normal prior of spread ``focal_sigma`` on the focal length (weak by
-    default; a small spread holds it)."""
+    default; a small spread holds it); ``weights`` (n,) weigh the points' errors (default 1)."""
     w, h = camera.image_size
     centre = np.array([camera.K[0, 2], camera.K[1, 2]])
+    weight = np.ones((len(image), 1)) if weights is None else np.asarray(weights, dtype=float).reshape(-1, 1)
 
     def residuals(p: np.ndarray) -> np.ndarray:
         R = cv2.Rodrigues(p[1:4])[0]
         cam = world3 @ R.T + p[4:7]
         proj = cam[:, :2] / cam[:, 2:3] * math.exp(p[0]) + centre
-        return np.concatenate([(proj - image).ravel(), [(p[0] - math.log(focal_prior)) / focal_sigma]])
+        return np.concatenate([((proj - image) * weight).ravel(), [(p[0] - math.log(focal_prior)) / focal_sigma]])
 
     p0 = np.concatenate([[math.log(camera.K[1, 1])], cv2.Rodrigues(camera.R)[0].ravel(), camera.t])
     try:
@@ -220,10 +225,22 @@ def camera_from_outline(
     camera, cost = quick
     z = spec.cushion_height if plane_z is None else plane_z
     world3 = np.column_stack([outline_rectangle(spec, offset), np.full(4, z)])
-    camera = refined(camera, world3, corners, focal_px or camera.K[1, 1], focal_sigma)
+    weights = None if focal_px is not None else off_frame_weights(corners, size)
+    camera = refined(camera, world3, corners, focal_px or camera.K[1, 1], focal_sigma, weights)
     err = np.linalg.norm(camera.project(world3) - corners, axis=1)
     rms = float(np.sqrt(np.mean(err**2))) if np.all(np.isfinite(err)) else math.inf
     return stretched(camera, aspect, image_size), cost, rms
+
+
+def off_frame_weights(corners: np.ndarray, image_size: tuple[float, float]) -> np.ndarray:
+    """Weights (4,) of an outline's corners [px] (4, 2) in a fit: 1 inside the photo, falling with the distance
+    outside it (half at :data:`OFF_FRAME_HALF` of the image diagonal). A corner outside is where two cushion lines
+    read inside meet: where they meet at a glancing angle, a fraction of a degree moves it far."""
+    w, h = image_size
+    dx = np.maximum(np.maximum(-corners[:, 0], corners[:, 0] - w), 0.0)
+    dy = np.maximum(np.maximum(-corners[:, 1], corners[:, 1] - h), 0.0)
+    out = np.hypot(dx, dy) / (OFF_FRAME_HALF * math.hypot(w, h))
+    return 1.0 / (1.0 + np.nan_to_num(out, nan=1e6))
 
 
 def complete_three_lines(
