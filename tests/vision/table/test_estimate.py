@@ -141,6 +141,25 @@ def test_a_diamond_fit_far_off_the_surface_loses_to_the_surface():
     assert surface_overlap(fit, surface.mask) > 0.95
 
 
+def test_a_diamond_fit_a_sight_off_loses_to_the_surface():
+    """Diamonds matched one sight along the table off give a table shifted by an eighth of its length: it still
+    overlaps most of the model's surface region, but clearly less than the surface's own table, which wins."""
+    spec = TableSpec()
+    camera = view("oblique")
+    size = camera.image_size
+    shift = np.array([spec.length / 8, 0.0, 0.0])  # the shifted camera sees table point p where the true one sees p + s
+    shifted = PinholeCamera(camera.K, camera.R, camera.t + camera.R @ shift, size)
+    layout = TableLayout((Ball.numbered(0), Ball.numbered(3)), BALLS[:2], spec)
+    det = analytic_detections(shifted, layout)
+    truth = camera.project_table(spec.corners, 0.0)
+    surface = outline_of(truth, size)
+    diamonds = estimate_table(None, det, size, spec, cues="diamonds")
+    assert 0.7 < surface_overlap(diamonds, surface.mask) < 0.93  # a table most of the way onto the cloth
+    fit = estimate_table(None, det, size, spec, surface=surface)
+    assert fit.source == "surface"
+    assert min(np.abs(np.roll(fit.corners_px, k, axis=0) - truth).max() for k in (0, 2)) < 2.0
+
+
 def test_a_top_view_with_the_models_corners_and_side_pockets_needs_no_balls():
     """A rectangle seen from straight above needs balls on it to be taken for a table (a window or a picture looks the
     same), unless the table model finds its four corners and both side pockets."""
