@@ -225,6 +225,8 @@ def camera_from_outline(
     camera, cost = quick
     z = spec.cushion_height if plane_z is None else plane_z
     world3 = np.column_stack([outline_rectangle(spec, offset), np.full(4, z)])
+    # corners read from the photo's cushion lines; with a focal length given (three cushions), the fourth side's
+    # corners come from the completion, consistent with the rest, and keep their weight
     weights = None if focal_px is not None else off_frame_weights(corners, size)
     camera = refined(camera, world3, corners, focal_px or camera.K[1, 1], focal_sigma, weights)
     err = np.linalg.norm(camera.project(world3) - corners, axis=1)
