@@ -83,6 +83,8 @@ def test_a_short_far_cushion_is_not_merged_into_the_long_ones_when_a_corner_is_c
     order = [int(np.argmin(np.linalg.norm(truth - c, axis=1))) for c in outline.corners_px]
     assert sorted(order) == [0, 1, 2, 3]
     assert np.linalg.norm(outline.corners_px - truth[order], axis=1).max() < 8.0
+    # the quadrilateral's own outline stays as the second hypothesis, for a fit where the runs make no rectangle
+    assert outline.alternative is not None and outline.alternative.seen.sum() == 3
 
 
 def test_a_band_across_the_photo_shows_only_two_cushions():

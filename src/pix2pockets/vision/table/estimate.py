@@ -205,7 +205,7 @@ def estimate_table(
             reasons.append(f"diamonds: {_reason(err)}")
     surface_fit: TableFit | None = None
     if cues in ("surface", "all") and surface is not None:
-        for outline in (surface, surface.alternative):  # the region's outline, else the corner peaks' own
+        for outline in (surface, surface.alternative):  # the outline, else its second hypothesis
             if outline is None:
                 continue
             try:

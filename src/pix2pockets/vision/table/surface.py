@@ -89,8 +89,9 @@ class SurfaceOutline:
         side_pocket: (4,) the best side-pocket peak score near each side's middle (0: none).
         mask: (H, W) bool, the surface region at the photo's resolution.
         confidence: mean surface chance inside the region, times the share of the quadrilateral it fills.
-        alternative: the four corner peaks' own outline where it lost to the region's (a second hypothesis for a fit
-            the region's outline cannot give, e.g. a region that leaks onto a player's shirt), else None.
+        alternative: a second hypothesis for a fit the outline cannot give: the four corner peaks' own outline
+            where it lost to the region's (e.g. a region that leaks onto a player's shirt), else the enclosing
+            quadrilateral's where the cushions read off the frame replaced it; None without one.
     """
 
     corners_px: np.ndarray
@@ -310,6 +311,7 @@ def surface_outline(
     if not np.all(np.isfinite(corners)):
         corners = quad
     seen = support >= SEEN_SUPPORT
+    replaced = None  # the quadrilateral's own outline, where the cushions read off the frame take its place
     share = region.sum() * cell_area / (w * h)
     if on_frame.any() and share <= MAX_CUT_REGION_SHARE:  # frame edges may have taken sides: read cushions
         cut = _cut_region_sides(points, on_frame, tol, (w, h))
@@ -318,6 +320,7 @@ def surface_outline(
             # with three cushions or more, a short one merged into its neighbours must show: more cushions, and an
             # outline that agrees with the surface at least as well
             if seen.sum() < 3 or surface_agreement(cues, cut_corners) >= surface_agreement(cues, corners):
+                replaced = (corners, seen) if seen.sum() >= 3 and np.all(np.isfinite(corners)) else None
                 corners, seen = cut_corners, cut[1]
     corners, from_peak = _snap_to_peaks(corners, cues)
     alternative = None  # the four peaks' corners, where they lose but would give another fit
@@ -328,14 +331,19 @@ def surface_outline(
         peaks_only = peak_quad(cues, held, PEAK_QUAD_BALL_COST * abs(region_agreement))
         if peaks_only is not None:
             if peaks_only[1] > region_agreement + PEAK_QUAD_GAIN * abs(region_agreement):
-                corners, seen, from_peak = peaks_only[0], all_peaks, all_peaks
+                corners, seen, from_peak, replaced = peaks_only[0], all_peaks, all_peaks, None
             elif corner_gap(peaks_only[0], corners) > ALTERNATIVE_GAP * quad_length(corners):
                 alternative = peaks_only[0]
     mask = cv2.resize(region, (cues.surface.shape[1] * 4, cues.surface.shape[0] * 4), interpolation=cv2.INTER_NEAREST)
     M = np.array([[1 / box.scale, 0, 0], [0, 1 / box.scale, 0]], dtype=np.float64)
     mask = cv2.warpAffine(mask, M, (w, h), flags=cv2.INTER_NEAREST).astype(bool)
     chance = float(cues.surface[region > 0].mean())
-    second = None if alternative is None else _outline(cues, alternative, all_peaks, all_peaks, mask, chance)
+    second = None
+    if alternative is not None:
+        second = _outline(cues, alternative, all_peaks, all_peaks, mask, chance)
+    elif replaced is not None:  # the cushions read off the frame may make no rectangle a camera sees
+        quad_corners, quad_peaks = _snap_to_peaks(replaced[0], cues)
+        second = _outline(cues, quad_corners, replaced[1], quad_peaks, mask, chance)
     return replace(_outline(cues, corners, seen, from_peak, mask, chance), alternative=second)
 
 
