@@ -4,7 +4,8 @@ Each render (:func:`pix2pockets.synth.renderer.render`, every camera kind, build
 draws) whose rails carry no sights goes through the pipeline's own steps: the bundled detector, post-processing, the
 table model and ``estimate_table`` (table size from the balls). The fitted playing-surface corners (on the cloth) are
 compared with the render's exact ones, either way round the table; a corner's error is divided by the table's length
-in the photo (the true outline's longer pair of opposite sides). Only corners within the frame count.
+in the photo (the true outline's longer pair of opposite sides). Only corners within the frame count; one the fit
+puts behind the camera counts as infinitely far off.
 
 ``--cloth black,red,burgundy`` keeps only renders of those cloths (the scene is drawn first, without rendering).
 
@@ -106,17 +107,17 @@ def main(argv: list[str] | None = None) -> int:
             (np.linalg.norm(np.roll(fitted, r, axis=0) - truth, axis=1) for r in (0, 2)),
             key=lambda e: float(np.nanmax(np.where(inside, e, 0.0))),
         )
-        rel = errors / quad_length(truth)
-        row.update(fit=True, source=fit.source, errors=[round(float(e), 5) for e in rel[inside]])
+        rel = errors / quad_length(truth)  # NaN: the fit puts that corner behind the camera
+        row.update(fit=True, source=fit.source, errors=[round(float(e), 5) if e == e else None for e in rel[inside]])
         rows.append(row)
 
     fits = [r for r in rows if r["fit"]]
     fixed = [r for r in rows if r["cushions_in_view"] >= 3]
     unfixed = [r for r in rows if r["cushions_in_view"] < 3]
-    errors = np.array([e for r in fits for e in r["errors"]])
+    errors = np.array([np.inf if e is None else e for r in fits for e in r["errors"]])
     by_build: dict[str, list[float]] = defaultdict(list)
     for r in fits:
-        by_build[r["build"]].extend(r["errors"])
+        by_build[r["build"]].extend(np.inf if e is None else e for e in r["errors"])
     summary = {
         "renders": len(rows),
         "fitted": len(fits),
@@ -127,7 +128,7 @@ def main(argv: list[str] | None = None) -> int:
         "cloths": sorted(cloths) if cloths else "all",
         "corner_error_median": float(np.median(errors)) if len(errors) else None,
         "corner_error_p90": float(np.percentile(errors, 90)) if len(errors) else None,
-        "right_2pct": sum(bool(r["errors"]) and max(r["errors"]) <= 0.02 for r in fits),
+        "right_2pct": sum(bool(r["errors"]) and None not in r["errors"] and max(r["errors"]) <= 0.02 for r in fits),
         "fit_seconds_median": float(np.median(seconds)) if seconds else None,
         "by_build": {b: float(np.median(v)) for b, v in sorted(by_build.items())},
     }
