@@ -1,3 +1,5 @@
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
@@ -62,6 +64,23 @@ def corner_view(shift: float, distance: float) -> PinholeCamera:
     """A top view over the table's centre moved ``shift`` [m] toward its foot, from ``distance`` [m] above."""
     target = np.array([SPEC.length / 2 + shift, SPEC.width / 2, 0.0])
     return PinholeCamera.look_at(target + np.array([0.0, 0.0, distance]), target, 700.0, (960, 540))
+
+
+def test_a_shot_to_a_pocket_out_of_the_photo_says_so():
+    """With the head end out of the photo, a shot to a foot pocket is to a pocket in view; one to a head pocket is
+    to where the fit of a cut table is least sure, and the text and the JSON say so."""
+    balls = (Ball.numbered(0), Ball.numbered(3), Ball.numbered(8))
+    foot_end = TableLayout(balls, [[2.1, 0.6], [2.35, 0.95], [1.9, 0.35]])
+    cam = corner_view(0.6, 2.0)
+    res = suggest(blank_image(cam), "solids", LabelDetector(cam, foot_end), NearestPocketPlanner(), SPEC)
+    head = [p.name for p in SPEC.pockets if p.centre[0] < 0.1]
+    foot = [p.name for p in SPEC.pockets if p.centre[0] > SPEC.length - 0.1]
+    assert res.shot.pocket in foot and res.pocket_in_view is True
+    assert "the pocket lies there" not in res.text
+    to_head = replace(res, shot=replace(res.shot, pocket=head[0]))
+    assert to_head.pocket_in_view is False
+    assert to_head.text.endswith("balls there are not seen, and the pocket lies there, where the fit is least sure")
+    assert to_head.to_dict()["suggestion"]["pocket_in_view"] is False
 
 
 def test_a_table_partly_out_of_the_photo_is_said_and_mostly_out_is_refused():
