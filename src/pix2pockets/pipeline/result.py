@@ -267,9 +267,8 @@ class Suggestion:
         unseen corners some 0.2 m off, median), so a pocket out of the photo is the least sure part of a shot."""
         if self.shot.pocket is None:
             return None
-        names = [pocket.name for pocket in self.spec.pockets]
-        centre = self.spec.pocket_centres[names.index(self.shot.pocket)]
-        u, v = self.camera.project_table(centre, 0.0)  # NaN behind the camera
+        pocket = next(p for p in self.spec.pockets if p.name == self.shot.pocket)
+        u, v = self.camera.project_table(pocket.centre, 0.0)  # NaN behind the camera
         w, h = self.image_size
         return bool(0.0 <= u <= w and 0.0 <= v <= h)
 

@@ -242,7 +242,7 @@ def off_frame_weights(corners: np.ndarray, image_size: tuple[float, float]) -> n
     dx = np.maximum(np.maximum(-corners[:, 0], corners[:, 0] - w), 0.0)
     dy = np.maximum(np.maximum(-corners[:, 1], corners[:, 1] - h), 0.0)
     out = np.hypot(dx, dy) / (OFF_FRAME_HALF * math.hypot(w, h))
-    return 1.0 / (1.0 + np.nan_to_num(out, nan=1e6))
+    return 1.0 / (1.0 + out)
 
 
 def complete_three_lines(

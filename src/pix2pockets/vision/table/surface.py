@@ -8,7 +8,8 @@ kept from the quadrilateral and marked unseen. Where the frame cuts the region s
 quadrilateral (fewer than three cushions left), the cushions are read from the region's edge off the frame instead,
 one straight run after another, and the frame closes a fourth side only where none is in view. Those runs win too
 where they find more cushions than the quadrilateral and agree with the surface at least as well (a short far
-cushion the quadrilateral merged into the long ones, a near corner being out of the photo). Side-pocket peaks
+cushion the quadrilateral merged into the long ones, a near corner being out of the photo); the quadrilateral's
+outline then stays as a second hypothesis, for runs that make no rectangle a camera sees. Side-pocket peaks
 near the middle of a side mark it as a long rail.
 
 The model's corner peaks give a second hypothesis: four of them round a convex quadrilateral. Where the surface
@@ -320,7 +321,7 @@ def surface_outline(
             # with three cushions or more, a short one merged into its neighbours must show: more cushions, and an
             # outline that agrees with the surface at least as well
             if seen.sum() < 3 or surface_agreement(cues, cut_corners) >= surface_agreement(cues, corners):
-                replaced = (corners, seen) if seen.sum() >= 3 and np.all(np.isfinite(corners)) else None
+                replaced = (corners, seen) if seen.sum() >= 3 else None
                 corners, seen = cut_corners, cut[1]
     corners, from_peak = _snap_to_peaks(corners, cues)
     alternative = None  # the four peaks' corners, where they lose but would give another fit
