@@ -88,3 +88,32 @@ def test_a_blackball_set_plans_by_blackball_rules():
     blackball = planner_for_set(planner, BallSet.BLACKBALL)
     assert blackball.config.rules == "blackball" and blackball.simulator is planner.simulator
     assert blackball.config.noise == planner.config.noise
+
+
+def test_an_unsure_pocket_loses_its_shot_to_a_sure_one(layout):
+    """NearestPocketPlanner ranks its shots by distance to the pocket; with that pocket's place unsure (out of the
+    photo) the best shot to a pocket in view is played instead."""
+    planner = NearestPocketPlanner()
+    plain = plan_shot(layout, "solids", planner, np.random.default_rng(0))
+    spec = layout.spec
+    first = next(i for i, p in enumerate(spec.pockets) if p.name == plain.pocket)
+    sigmas = np.zeros(len(spec.pockets))
+    assert plan_shot(layout, "solids", planner, np.random.default_rng(0), pocket_sigma=sigmas).pocket == plain.pocket
+    sigmas[first] = 0.2
+    moved = plan_shot(layout, "solids", planner, np.random.default_rng(0), pocket_sigma=sigmas)
+    assert moved.pocket != plain.pocket
+
+
+def test_a_shot_to_an_unsure_pocket_is_measured_with_its_error(layout):
+    planner = default_planner(skill="pro")
+    sure = plan_shot(layout, "solids", planner, np.random.default_rng(0), chance_samples=200, position_sigma=0.0)
+    assert sure.kind in ("direct", "bank") and sure.chance.pocket_sigma == 0.0
+    spec = layout.spec
+    sigmas = np.full(len(spec.pockets), 0.15)  # every pocket unsure: the same shot, a lower chance
+    unsure = plan_shot(
+        layout, "solids", planner, np.random.default_rng(0), chance_samples=200, position_sigma=0.0, pocket_sigma=sigmas
+    )
+    assert unsure.stroke == sure.stroke and unsure.chance.pocket_sigma == 0.15
+    assert unsure.success_probability < sure.success_probability - 0.2
+    assert unsure.chance_exact_positions.pocket_sigma == 0.0
+    assert unsure.to_dict()["success_chance"]["pocket_sigma_m"] == 0.15

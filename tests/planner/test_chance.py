@@ -75,6 +75,41 @@ def test_position_error_costs_and_reaiming_helps(planner):
     assert fixed.p < aimed.p
 
 
+def test_a_pocket_out_of_place_costs_the_more_the_further_it_may_lie(planner):
+    layout, shot, ghost = straight_in()
+    state = GameState(Group.SOLIDS)
+    kw = dict(noise=noise_model("pro"), samples=300, target=1, aim_point=ghost)
+    distance = float(np.linalg.norm(POCKET - layout.positions[1]))
+    rates = []
+    for sigma in (0.0, 0.01, 0.05, 0.2):
+        c = measure_chance(
+            planner,
+            layout,
+            state,
+            shot,
+            rng=np.random.default_rng(4),
+            pocket_sigma=sigma,
+            pocket_distance=distance,
+            **kw,
+        )
+        assert c.pocket_sigma == sigma and c.to_dict()["pocket_sigma_m"] == sigma
+        rates.append(c.p)
+    assert rates[0] > 0.8
+    assert rates[0] >= rates[1] > rates[2] > rates[3]
+    # a 2-D Gaussian pocket error of 0.2 m leaves about the share that stays within the mouth's free half-width
+    assert rates[3] < 0.3
+
+
+@pytest.mark.parametrize(
+    "kw", [{"target": None}, {"aim_point": None}, {"pocket_distance": 0.0}, {"pocket_sigma": -0.1}]
+)
+def test_a_pocket_error_needs_a_line_to_turn(planner, kw):
+    layout, shot, ghost = straight_in()
+    args = dict(target=1, aim_point=ghost, pocket_sigma=0.1, pocket_distance=1.0) | kw
+    with pytest.raises(ValueError, match="pocket_sigma"):
+        measure_chance(planner, layout, GameState(Group.SOLIDS), shot, **args)
+
+
 @pytest.mark.parametrize("kw", [{"samples": 0}, {"position_sigma": -1.0}])
 def test_bad_arguments(planner, kw):
     layout, shot, _ = straight_in()

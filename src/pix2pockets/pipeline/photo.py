@@ -21,6 +21,7 @@ from pix2pockets.geometry.raster import table_to_env_pixels
 from pix2pockets.geometry.table import TableSpec, table_preset
 from pix2pockets.pipeline.planning import ShotPlanner, default_planner, place_in_hand, plan_shot, planner_for_set
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
+from pix2pockets.pipeline.unseen_pockets import pocket_sigmas
 from pix2pockets.rules import InHand
 from pix2pockets.state.ball import BallClass
 from pix2pockets.state.ball_set import BallSet, class_name, group_name, parse_ball_set, parse_group, set_of_group
@@ -309,7 +310,8 @@ def suggest(
         layout, placed_for = place_in_hand(layout, group_asked, planner, in_hand, rng)
         group_asked = placed_for.value
         position_cov = np.concatenate([position_cov.reshape(-1, 2, 2), np.zeros((1, 2, 2))])  # put there exactly
-    advice = plan_shot(layout, group_asked, planner, rng, position_sigma=position_cov)
+    unseen = pocket_sigmas(fit.camera, spec, (w, h))
+    advice = plan_shot(layout, group_asked, planner, rng, position_sigma=position_cov, pocket_sigma=unseen)
     advice = replace(advice, group=group_name(advice.group, chosen))
     timings["plan"] = time.perf_counter() - t
 

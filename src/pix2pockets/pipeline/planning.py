@@ -21,6 +21,7 @@ import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.pipeline.result import ShotAdvice
+from pix2pockets.pipeline.unseen_pockets import pocket_hit_share
 from pix2pockets.planner.ball_in_hand import best_placement
 from pix2pockets.planner.chance import Chance, measure_chance
 from pix2pockets.rules import GameState, InHand
@@ -37,6 +38,9 @@ class ShotPlanner(Protocol):
 
 CHANCE_SAMPLES = 400
 """Sampled executions behind a shown chance (a 95% interval of about +-5 points at 50%)."""
+RERANKED_CANDIDATES = 8
+"""Candidates ranked again when a pocket's place is unsure: the search planner's strokes valued by noisy replays
+(``SearchConfig.max_verified``); those after them carry only their clean value."""
 PHOTO_POSITION_SIGMA = 0.003
 """Ball-position error per axis [m] of a layout whose photo is not at hand: the shipped detector's median ball error
 on renders is 1.4-4.2 mm (docs/benchmarks-vision.md); a 2-D Gaussian with 3 mm per axis has a median error of
@@ -96,11 +100,14 @@ def shot_chance(
     seed: int = 0,
     target: int | None = None,
     aim_point: np.ndarray | None = None,
+    pocket_sigma: float = 0.0,
+    pocket_distance: float | None = None,
 ) -> Chance | None:
     """The measured chance of ``shot`` under the planner's noise (``None`` for planners without a simulator).
 
     With ``target`` and ``aim_point`` (the ghost-ball centre [m]) the stroke is re-aimed on each layout drawn
-    with the position error, as a player aiming at the real balls would.
+    with the position error, as a player aiming at the real balls would; ``pocket_sigma`` [m] and
+    ``pocket_distance`` [m] add the pocket's position error (:func:`~pix2pockets.planner.chance.measure_chance`).
     """
     search = _search_planner(planner)
     if search is None or samples < 1:
@@ -116,6 +123,8 @@ def shot_chance(
         position_sigma=position_sigma,
         target=target,
         aim_point=aim_point,
+        pocket_sigma=pocket_sigma,
+        pocket_distance=pocket_distance,
     )
 
 
@@ -132,6 +141,10 @@ def _rail_hit(start: np.ndarray, angle: float, spec: TableSpec) -> np.ndarray:
                     ts.append(t)
     t = min(ts) if ts else 0.0
     return start + t * d
+
+
+def _is_safety(candidate: Any) -> bool:
+    return bool(getattr(candidate, "safety", False)) or getattr(candidate, "pocket", None) is None
 
 
 def _value_of(candidate: Any) -> float:
@@ -255,6 +268,7 @@ def plan_shot(
     rng: np.random.Generator | None = None,
     chance_samples: int = CHANCE_SAMPLES,
     position_sigma: float | np.ndarray = PHOTO_POSITION_SIGMA,
+    pocket_sigma: np.ndarray | None = None,
 ) -> ShotAdvice:
     """Best shot for ``group`` (``solids``, ``stripes`` or ``auto``: the group with the better shot).
 
@@ -262,19 +276,36 @@ def plan_shot(
     executions under the planner's noise, balls moved by ``position_sigma`` [m] per axis, or by each ball's position
     covariance (n, 2, 2) [m^2]) when the planner simulates; otherwise the planner's own estimate.
 
+    ``pocket_sigma`` gives each pocket's position error per axis [m] (``spec.pockets`` order; a pocket out of the
+    photo, :mod:`pix2pockets.pipeline.unseen_pockets`): the planner's candidates are then ranked by their value times
+    the share of those errors their pocket still takes, and the chosen direct or bank shot's chance is measured with its
+    pocket's error.
+
     Raises:
         ValueError: no cue ball, or no ball of the group (and no 8-ball) on the table.
     """
     if layout.cue_index is None:
         raise ValueError("no cue ball found on the table")
+    spec = layout.spec
+    sigmas = np.zeros(len(spec.pockets)) if pocket_sigma is None else np.asarray(pocket_sigma, dtype=float)
+
+    def share(candidate: Any) -> float:  # the pocket position errors the candidate's pocket still takes
+        pocket = getattr(candidate, "pocket", None)
+        return 1.0 if pocket is None else pocket_hit_share(spec, pocket, float(sigmas[pocket]))
+
     best: tuple[float, ShotAdvice] | None = None
     for g in groups_to_plan(layout, group):
         candidates = planner.suggest(layout, GameState(group=g), rng)
         if not candidates:
             continue
         cand = candidates[0]
+        if np.any(sigmas > 0):  # a pocket out of the photo: the best strokes ranked again by the errors they survive
+            cand = max(
+                candidates[:RERANKED_CANDIDATES],
+                key=lambda c: float(getattr(c, "value", 0.0)) * share(c) - 1e3 * _is_safety(c),
+            )
         advice = advice_from_candidate(cand, layout, g)
-        score = _value_of(cand) - (1e3 if advice.safety else 0.0)
+        score = _value_of(cand) * share(cand) - (1e3 if advice.safety else 0.0)
         if best is None or score > best[0]:
             best = (score, advice)
     if best is None:
@@ -285,10 +316,16 @@ def plan_shot(
     g = Group(advice.group)
     # the player aims at the real balls: direct and bank strokes follow the ghost ball; kicks keep their angle
     aim = advice.ghost if advice.kind != "kick" else None
-    chance = shot_chance(planner, layout, g, advice.stroke, chance_samples, position_sigma, 0, advice.target_ball, aim)
+    pocket = next(i for i, p in enumerate(spec.pockets) if p.name == advice.pocket)
+    # a kick or a combination is not re-aimed along a line to its pocket: measured with the pocket where it was fitted
+    unsure = float(sigmas[pocket]) if advice.kind in ("direct", "bank") else 0.0
+    distance = float(np.linalg.norm(np.diff(advice.object_path, axis=0), axis=1).sum())
+    chance = shot_chance(
+        planner, layout, g, advice.stroke, chance_samples, position_sigma, 0, advice.target_ball, aim, unsure, distance
+    )
     if chance is None:
         return advice
     exact = chance
-    if chance.position_sigma > 0:
+    if chance.position_sigma > 0 or chance.pocket_sigma > 0:
         exact = shot_chance(planner, layout, g, advice.stroke, chance_samples, 0.0)
     return replace(advice, success_probability=chance.p, chance=chance, chance_exact_positions=exact)

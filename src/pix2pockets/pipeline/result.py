@@ -13,6 +13,7 @@ import numpy as np
 
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.table import TableSpec
+from pix2pockets.pipeline.unseen_pockets import pockets_in_photo
 from pix2pockets.planner.chance import Chance, format_chance
 from pix2pockets.state.layout import TableLayout
 from pix2pockets.state.shot import Shot
@@ -264,13 +265,12 @@ class Suggestion:
     def pocket_in_view(self) -> bool | None:
         """Whether the shot's pocket lies inside the photo (``None`` for a shot without one). A table cut by the frame
         is fitted well where the photo shows it and poorly where it does not (``benchmarks/cut_table_fit.py``: its
-        unseen corners some 0.2 m off, median), so a pocket out of the photo is the least sure part of a shot."""
+        unseen corners 0.15 m off, median), so a pocket out of the photo is the least sure part of a shot (its chance
+        is measured with that error, :mod:`pix2pockets.pipeline.unseen_pockets`)."""
         if self.shot.pocket is None:
             return None
-        pocket = next(p for p in self.spec.pockets if p.name == self.shot.pocket)
-        u, v = self.camera.project_table(pocket.centre, 0.0)  # NaN behind the camera
-        w, h = self.image_size
-        return bool(0.0 <= u <= w and 0.0 <= v <= h)
+        index = next(i for i, p in enumerate(self.spec.pockets) if p.name == self.shot.pocket)
+        return bool(pockets_in_photo(self.camera, self.spec, self.image_size)[index])
 
     def to_dict(self) -> dict:
         """The JSON document of ``pix2pockets suggest --json``."""

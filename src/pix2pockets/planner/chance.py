@@ -12,6 +12,7 @@ Example:
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -32,12 +33,15 @@ class Chance:
         noise: name of the noise model the executions were drawn from.
         position_sigma: ball-position error per axis used for the draws [m] (0: positions as given; with an error
             per ball, the median of the balls' errors along their worst direction).
+        pocket_sigma: error per axis of where the pocket lies [m] used for the draws (0: the pocket is where the table
+            fit puts it; a pocket out of the photo is not fixed by it).
     """
 
     successes: int
     samples: int
     noise: str = ""
     position_sigma: float = 0.0
+    pocket_sigma: float = 0.0
 
     def __post_init__(self) -> None:
         if self.samples < 1 or not 0 <= self.successes <= self.samples:
@@ -68,6 +72,7 @@ class Chance:
             "ci95": [round(lo, 4), round(hi, 4)],
             "noise": self.noise,
             "position_sigma_m": self.position_sigma,
+            "pocket_sigma_m": self.pocket_sigma,
         }
 
 
@@ -92,6 +97,8 @@ def measure_chance(
     position_draws: int = 20,
     target: int | None = None,
     aim_point: np.ndarray | tuple[float, float] | None = None,
+    pocket_sigma: float = 0.0,
+    pocket_distance: float | None = None,
 ) -> Chance:
     """Replay ``shot`` ``samples`` times under ``noise`` and count legal successes.
 
@@ -111,13 +118,25 @@ def measure_chance(
             jittered layout (a player aims at the real balls, not at the photo's coordinates).
         aim_point: where the cue ball is sent on the given layout [m] (the ghost-ball centre); it moves with
             the target ball and the stroke's direction is taken from the moved cue ball to it.
+        pocket_sigma: Gaussian error per axis of where the pocket lies [m] (a pocket out of the photo): each execution
+            sends the target ball along its planned line toward a pocket that lies elsewhere, i.e. turned by the
+            error's part across the line over ``pocket_distance``. Needs ``target`` and ``aim_point``.
+        pocket_distance: how far the target ball travels to the pocket [m] (along its path, cushions included).
+
+    Raises:
+        ValueError: ``samples`` < 1, a negative error, or ``pocket_sigma`` without a target, aim point or distance.
     """
     if samples < 1:
         raise ValueError(f"samples must be >= 1, got {samples}")
+    if not pocket_sigma >= 0:
+        raise ValueError(f"pocket_sigma must be >= 0, got {pocket_sigma}")
+    if pocket_sigma > 0 and (target is None or aim_point is None or not (pocket_distance or 0) > 0):
+        raise ValueError("pocket_sigma needs the target ball, its aim point and a positive pocket_distance")
     spread = position_spread(position_sigma, len(layout.positions))
     noise = noise if noise is not None else planner.noise
     rng = rng if rng is not None else np.random.default_rng(0)
     z = rng.standard_normal((samples, 5))
+    turns = rng.standard_normal(samples) * (pocket_sigma / pocket_distance) if pocket_sigma > 0 else np.zeros(samples)
     if spread is not None:
         groups = np.array_split(np.arange(samples), max(1, min(position_draws, samples)))
         layouts = [_jitter(layout, spread, rng) for _ in groups]
@@ -125,13 +144,12 @@ def measure_chance(
         groups, layouts = [np.arange(samples)], [layout]
     successes = 0
     for idx, lay in zip(groups, layouts, strict=True):
-        aimed = _reaim(shot, layout, lay, target, aim_point)
-        shots = [noise.apply(aimed, zk) for zk in z[idx]]
+        shots = [noise.apply(_reaim(shot, layout, lay, target, aim_point, turns[k]), z[k]) for k in idx]
         rows = np.array([(s.angle, s.speed, s.side, s.height, s.elevation) for s in shots])
         first, pocket, _ = planner._run(lay, rows)
         successes += int(np.count_nonzero(planner._success(first, pocket, lay, state)))
     shown = 0.0 if spread is None else float(np.median(np.sqrt(np.linalg.eigvalsh(spread)[:, -1])))
-    return Chance(successes, samples, noise.name, shown)
+    return Chance(successes, samples, noise.name, shown, float(pocket_sigma))
 
 
 def position_spread(position_sigma: float | np.ndarray, n_balls: int) -> np.ndarray | None:
@@ -152,11 +170,18 @@ def position_spread(position_sigma: float | np.ndarray, n_balls: int) -> np.ndar
     return cov
 
 
-def _reaim(shot: Shot, layout: TableLayout, moved: TableLayout, target: int | None, aim_point) -> Shot:
-    """``shot`` aimed on ``moved`` as a player would: the aim point follows the target ball."""
-    if moved is layout or target is None or aim_point is None or layout.cue_index is None:
+def _reaim(
+    shot: Shot, layout: TableLayout, moved: TableLayout, target: int | None, aim_point, turn: float = 0.0
+) -> Shot:
+    """``shot`` aimed on ``moved`` as a player would: the aim point follows the target ball, turned about it by
+    ``turn`` [rad] (which turns the target ball's line by as much)."""
+    if (moved is layout and turn == 0.0) or target is None or aim_point is None or layout.cue_index is None:
         return shot
-    point = np.asarray(aim_point, dtype=float) + (moved.positions[target] - layout.positions[target])
+    ball = layout.positions[target]
+    c, s = math.cos(turn), math.sin(turn)
+    offset = np.asarray(aim_point, dtype=float) - ball
+    point = ball + np.array([c * offset[0] - s * offset[1], s * offset[0] + c * offset[1]])
+    point = point + (moved.positions[target] - ball)
     d = point - moved.positions[moved.cue_index]
     if not np.hypot(*d) > 1e-9:
         return shot
