@@ -21,7 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pix2pockets.pipeline.photo import clean_detections_for_set, default_detector
+from pix2pockets.pipeline.photo import clean_detections_for_set, default_detector, playing_surface
 from pix2pockets.state.ball_set import class_name
 from pix2pockets.vision.classes import ball_class_of
 from pix2pockets.vision.detect.postprocess import box_iou
@@ -54,7 +54,7 @@ def main() -> None:
             raise SystemExit(f"{path} not found: pass --data, the real-snooker-vision folder")
         rgb = read_image_rgb(path)
         h, w = rgb.shape[:2]
-        det, chosen = clean_detections_for_set(detector.detect(rgb), rgb, args.ball_set)
+        det, chosen = clean_detections_for_set(detector.detect(rgb), rgb, args.ball_set, playing_surface(rgb, True))
         sets[chosen.value] += 1
         balls = det[det.is_ball]
         names = [class_name(ball_class_of(int(c)), chosen) for c in balls.class_id]

@@ -23,7 +23,7 @@ from collections import Counter
 
 import numpy as np
 
-from pix2pockets.pipeline.photo import clean_detections_for_set, default_detector
+from pix2pockets.pipeline.photo import clean_detections_for_set, default_detector, playing_surface
 from pix2pockets.state.ball_set import class_name
 from pix2pockets.synth.renderer import parse_size, render
 from pix2pockets.vision.classes import BALL_IDS, CLASS_NAMES
@@ -66,8 +66,9 @@ def main() -> None:
         out = render(args.seed + k, size, ball_set="blackball")
         truths.append(truth_of(out.labels))
         raw = detector.detect(out.image)
+        surface_mask = playing_surface(out.image, True)
         for ball_set in SETS:
-            det, chosen = clean_detections_for_set(raw, out.image, ball_set)
+            det, chosen = clean_detections_for_set(raw, out.image, ball_set, surface_mask)
             if ball_set == "auto":
                 read_as[chosen.value] += 1
                 if np.isin(truths[-1].class_id, OBJECT_IDS).sum() >= MIN_COLOURED_BALLS:

@@ -14,6 +14,7 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
+import cv2
 import numpy as np
 
 from pix2pockets.geometry.camera import PinholeCamera
@@ -38,7 +39,7 @@ from pix2pockets.vision.stages.ball_numbers import BallNumberReader, assign_numb
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.estimate import estimate_table, outline_used
 from pix2pockets.vision.table.fit import TableFit
-from pix2pockets.vision.table.keypoints import TableModel
+from pix2pockets.vision.table.keypoints import TableCues, TableModel
 from pix2pockets.vision.table.quad_geometry import share_in_frame
 from pix2pockets.vision.table.rail_height import refine_fit_height
 from pix2pockets.vision.table.surface import SurfaceOutline, surface_outline
@@ -55,6 +56,9 @@ SURE_BALL_SCORE = 0.45
 photos the detector's class heads and the ball classifier often disagree about a ball (a real 8 the classifier is
 sure of, the black head not), and their joint class score then falls under :data:`MIN_CONFIDENCE` although the ball
 is plainly there (``docs/benchmarks-detector.md``)."""
+SET_VOTE_MARGIN = 0.0075
+"""How far off the table model's playing surface a ball still reads the ball set, as a share of the photo's longer side
+(a ball on the cushion's edge, or the surface read a little short)."""
 LOOSE_OBJECT_CAPS = (*DETECTION_CAPS[:2], 14, 14, *DETECTION_CAPS[4:])
 """Caps while a blackball set's object balls are still to be named by colour: room for all 14 in either class."""
 COLOURED_BALL_SCORE = 0.15
@@ -115,19 +119,25 @@ def clean_detections(raw: Detections) -> Detections:
 
 
 def clean_detections_for_set(
-    raw: Detections, rgb: np.ndarray, ball_set: BallSet | str = "auto"
+    raw: Detections, rgb: np.ndarray, ball_set: BallSet | str = "auto", surface_mask: np.ndarray | None = None
 ) -> tuple[Detections, BallSet]:
     """:func:`clean_detections` for a ball set, or the set read from the photo (``auto``).
 
     A blackball set's 14 object balls may all look solid to the detector: they are grouped with room for all of
     them, named red or yellow by colour (:mod:`pix2pockets.vision.stages.ball_colours`) and only then capped at 7
-    of each; a clearly red or yellow ball is kept from a lower score (:data:`COLOURED_BALL_SCORE`). Returns the
-    detections and the set.
+    of each; a clearly red or yellow ball is kept from a lower score (:data:`COLOURED_BALL_SCORE`). With the table
+    model's ``surface_mask`` (H, W) (:func:`playing_surface`), only the balls on the playing surface (within
+    :data:`SET_VOTE_MARGIN`) read the set: chalk on the rails, balls in a ball return and things beside the table
+    do not. Returns the detections and the set.
     """
     if ball_set != "auto" and parse_ball_set(ball_set) is BallSet.AMERICAN:
         return clean_detections(raw), BallSet.AMERICAN
     loose = resolve_ball_classes(raw, caps=LOOSE_OBJECT_CAPS)
-    chosen = read_ball_set(rgb, loose) if ball_set == "auto" else BallSet.BLACKBALL
+    if ball_set == "auto":
+        voters = loose if surface_mask is None else loose[~loose.is_ball | on_surface(loose.centres, surface_mask)]
+        chosen = read_ball_set(rgb, voters)
+    else:
+        chosen = BallSet.BLACKBALL
     if chosen is BallSet.AMERICAN:
         return clean_detections(raw), chosen
     named = apply_caps(blackball_classes(rgb, loose))
@@ -156,13 +166,41 @@ def default_table_model() -> TableModel | None:
     return TableModel.from_option(None)
 
 
-def read_surface(rgb: np.ndarray, det: Detections, table_model: TableModel | bool | None) -> SurfaceOutline | None:
-    """The playing surface the table model sees (None without a model or without a surface in the photo)."""
+def table_cues(rgb: np.ndarray, table_model: TableModel | bool | None) -> TableCues | None:
+    """What the table model reads in the photo (None without a model: ``False`` or ``None``, or a checkout without
+    its weights; ``True``: the bundled one)."""
     model = default_table_model() if table_model is True else table_model or None
-    if model is None:
+    return None if model is None else model.read(rgb)
+
+
+def playing_surface(rgb: np.ndarray, table_model: TableModel | bool | None) -> np.ndarray | None:
+    """The table model's playing-surface mask (H, W) uint8 of the photo (None without a model)."""
+    cues = table_cues(rgb, table_model)
+    return None if cues is None else cues.surface_mask()
+
+
+def on_surface(centres: np.ndarray, surface_mask: np.ndarray) -> np.ndarray:
+    """Which points (n, 2) [px] lie on the surface mask (H, W) grown by :data:`SET_VOTE_MARGIN` of its longer side."""
+    h, w = surface_mask.shape
+    k = 2 * max(1, round(SET_VOTE_MARGIN * max(w, h))) + 1
+    grown = cv2.dilate(np.asarray(surface_mask, dtype=np.uint8), np.ones((k, k), np.uint8))
+    xy = np.round(np.asarray(centres, dtype=float).reshape(-1, 2)).astype(int)
+    inside = (xy[:, 0] >= 0) & (xy[:, 0] < w) & (xy[:, 1] >= 0) & (xy[:, 1] < h)
+    out = np.zeros(len(xy), dtype=bool)
+    out[inside] = grown[xy[inside, 1], xy[inside, 0]] > 0
+    return out
+
+
+def read_surface(
+    rgb: np.ndarray, det: Detections, table_model: TableModel | bool | None, cues: TableCues | None = None
+) -> SurfaceOutline | None:
+    """The playing surface the table model sees (None without a model or without a surface in the photo); ``cues``:
+    the model's reading of the photo when it was read before."""
+    cues = cues if cues is not None else table_cues(rgb, table_model)
+    if cues is None:
         return None
     try:
-        return surface_outline(model.read(rgb), det[det.is_ball].centres)
+        return surface_outline(cues, det[det.is_ball].centres)
     except TableFitError:
         return None
 
@@ -265,9 +303,10 @@ def suggest(
     t = time.perf_counter()
     if ball_set == "auto":  # a group of one set names the set
         ball_set = set_of_group(group) or ball_set
-    det, chosen = clean_detections_for_set(raw, rgb, ball_set)
+    cues = table_cues(rgb, table_model)
+    det, chosen = clean_detections_for_set(raw, rgb, ball_set, None if cues is None else cues.surface_mask())
     wanted = parse_group(group, chosen)
-    surface = read_surface(rgb, det, table_model)
+    surface = read_surface(rgb, det, table_model, cues)
     base = table_preset("uk7") if chosen is BallSet.BLACKBALL else None  # 2 in balls measure a UK table
     fit = estimate_table(rgb, det, (w, h), spec, pixel_aspect=det.pixel_aspect, surface=surface, base=base)
     spec = fit.spec

@@ -178,3 +178,26 @@ def test_all_fourteen_object_balls_of_a_blackball_set_survive_the_caps():
     assert det.class_id.tolist().count(BLACK_ID) == 1 and len(det) == 16
     same, chosen = clean_detections_for_set(raw, img, "american")
     assert chosen is BallSet.AMERICAN and len(same) == len(clean_detections(raw))
+
+
+def test_a_ball_off_the_playing_surface_does_not_read_the_set():
+    """Blue chalk on the rail beside three reds and two yellows: a ball of another colour reads the set American,
+    unless the table model's surface shows it lies off the cloth."""
+    from pix2pockets.pipeline.photo import clean_detections_for_set, on_surface
+
+    img, boxes = table_photo(["red", "yellow", "red", "yellow", "red", "blue"])
+    raw = detections(boxes, [2] * 6, conf=0.7)
+    assert clean_detections_for_set(raw, img, "auto")[1] is BallSet.AMERICAN
+    surface = np.zeros(img.shape[:2], np.uint8)
+    surface[:, : int(boxes[4, 2]) + 2] = 1  # the cloth ends beside the last red: the blue lies on the rail
+    assert on_surface(raw.centres, surface).tolist() == [True] * 5 + [False]
+    assert clean_detections_for_set(raw, img, "auto", surface)[1] is BallSet.BLACKBALL
+    det, _ = clean_detections_for_set(raw, img, "blackball", surface)
+    assert len(det) == 6  # the set is read from the balls on the cloth; the balls kept are all of them
+
+
+def test_points_off_the_photo_are_off_the_surface():
+    from pix2pockets.pipeline.photo import on_surface
+
+    surface = np.ones((50, 80), np.uint8)
+    assert on_surface(np.array([[-5.0, 10.0], [10.0, 60.0], [40.0, 25.0]]), surface).tolist() == [False, False, True]
