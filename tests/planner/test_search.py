@@ -147,6 +147,7 @@ def test_blackball_success_predicate_matches_its_rules():
         ({"two_ply_verified": 0}, "two_ply_verified"),
         ({"two_ply_samples": 9, "samples": 4, "refine_samples": 4}, "two_ply_samples"),
         ({"two_ply_weight": -1.0}, "two_ply_weight"),
+        ({"final_scale": 0}, "final_scale"),
     ],
 )
 def test_bad_config(kw, match):
@@ -237,3 +238,25 @@ def test_two_ply_runs_only_with_few_balls_left(monkeypatch, two_ply, called):
     assert bool(calls) is called
     assert len(calls) <= 2 * 2
     assert best.target in (1, 2)
+
+
+@pytest.mark.parametrize("final_scale", [1, 3])
+def test_the_winning_shot_gets_more_replays(monkeypatch, final_scale):
+    """With only the 8 left there is no position to play for: its strokes get ``final_scale`` times the replays."""
+    counts = []
+    original = SearchPlanner._replay
+
+    def counting(self, strokes, layout, state, z, sigma, *args, **kwargs):
+        counts.append(len(z))
+        return original(self, strokes, layout, state, z, sigma, *args, **kwargs)
+
+    monkeypatch.setattr(SearchPlanner, "_replay", counting)
+    cfg = SearchConfig(**FAST, final_scale=final_scale, two_ply=0)
+    planner = SearchPlanner(cfg)
+    on_the_8 = layout([MID, 0.8], [MID, 0.3], [0.6, 0.4], numbers=[0, 8, 9])
+    planner.suggest(on_the_8, SOLIDS, np.random.default_rng(0))
+    assert counts[:2] == [final_scale * cfg.samples, final_scale * cfg.refine_samples]
+    counts.clear()
+    with_a_solid = layout([MID, 0.8], [MID, 0.3], [2.0, 1.0], [0.6, 0.4], numbers=[0, 1, 8, 9])
+    planner.suggest(with_a_solid, SOLIDS, np.random.default_rng(0))
+    assert counts[:2] == [cfg.samples, cfg.refine_samples]

@@ -25,8 +25,15 @@ _SEARCHES: dict[str, dict[str, Any]] = {
     "search": {},
     "search-direct": {"kinds": (ShotKind.DIRECT,)},
     "search-greedy": {"lookahead": 0.0},
-    # ablation: the one-step search without the endgame, rescue and two-ply passes, half the noisy replays
-    "search-basic": {"endgame": 0, "rescue_below": 0.0, "two_ply": 0, "samples": 8, "refine_samples": 16},
+    # ablation: the one-step search without the endgame, rescue, two-ply and winning-shot passes, half the replays
+    "search-basic": {
+        "endgame": 0,
+        "rescue_below": 0.0,
+        "two_ply": 0,
+        "final_scale": 1,
+        "samples": 8,
+        "refine_samples": 16,
+    },
 }
 PLANNER_NAMES: tuple[str, ...] = (*_ORACLES, *_SEARCHES)
 """Names accepted by :func:`make_planner`: the paper's Oracle variants and our search planner."""

@@ -21,7 +21,8 @@
    shot's best ``two_ply_hitpoints`` hitpoints get an aim fan, its best ``two_ply_verified`` strokes get
    ``two_ply_samples`` noisy replays, and the best of them (success x value) replaces the geometric next-shot
    value, weighted ``two_ply_weight``. The last balls' position play then rests on simulated next shots.
-6. **Fallback**: with no pot, shots at the legal balls over a range of cut offsets are tried; failing
+6. **The winning shot**: with only the 8 left, ``final_scale`` times the replays tell close strokes apart.
+7. **Fallback**: with no pot, shots at the legal balls over a range of cut offsets are tried; failing
    that, a legal safety (own ball first, no foul) or a plain shot at the nearest legal ball.
 
 The paper's 1-ball task (only the cue ball on the table) pots the cue ball: the aim fan and the noisy
@@ -36,7 +37,7 @@ from __future__ import annotations
 
 import math
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -101,6 +102,9 @@ class SearchConfig:
             (their measured success replaces the aim-fan estimate); 0 values the next shot by its aim fan only.
         two_ply_verified: next-shot strokes replayed per end position.
         two_ply_weight: weight of the simulated next-shot value (``lookahead`` weighs the geometric one).
+        final_scale: on the winning shot (only the 8 left), ``samples``, ``refine_samples`` and ``refine_top`` are
+            multiplied by this: with no position to play for, the strokes differ by their success alone, which more
+            replays tell apart (less winner's curse); 1 treats it like any other shot.
         simulator_params: keyword parameters for the simulator backend.
     """
 
@@ -135,6 +139,7 @@ class SearchConfig:
     two_ply_samples: int = 8
     two_ply_verified: int = 2
     two_ply_weight: float = 8.0
+    final_scale: int = 3
     simulator_params: dict = field(default_factory=dict, hash=False, compare=False)
 
     def __post_init__(self) -> None:
@@ -151,6 +156,8 @@ class SearchConfig:
             raise ValueError(
                 "SearchConfig needs two_ply >= 0 and two_ply_top, two_ply_outcomes, two_ply_hitpoints >= 1"
             )
+        if self.final_scale < 1:
+            raise ValueError(f"SearchConfig.final_scale must be >= 1, got {self.final_scale}")
         if self.two_ply_samples < 0 or self.two_ply_verified < 1:
             raise ValueError("SearchConfig needs two_ply_samples >= 0 and two_ply_verified >= 1")
         if self.two_ply_samples > self.samples + self.refine_samples:
@@ -248,12 +255,18 @@ class SearchPlanner:
         if layout.cue_index is None:
             raise ValueError("cannot plan a shot: the layout has no cue ball")
         sigma = max(self.noise.angle_sigma, _MIN_SIGMA)
-        z = rng.standard_normal((cfg.samples + cfg.refine_samples, 5))
         if lone_cue(layout):
-            return self._pot_cue(layout, state, z, sigma)
+            return self._pot_cue(layout, state, rng.standard_normal((cfg.samples + cfg.refine_samples, 5)), sigma)
         targets = legal_targets(layout, state)
         if not targets:
             return [fallback_shot(layout, state, cfg.speeds[0])]
+        replays = cfg
+        if targets == [layout.black_index] and cfg.final_scale > 1:  # the winning shot: no position to play for
+            k = cfg.final_scale
+            replays = replace(
+                cfg, samples=k * cfg.samples, refine_samples=k * cfg.refine_samples, refine_top=k * cfg.refine_top
+            )
+        z = rng.standard_normal((replays.samples + replays.refine_samples, 5))
         ranked = self._ranked_hitpoints(layout, targets, sigma)
         endgame = len(targets) <= cfg.endgame
         strokes: list[_Stroke] = []
@@ -271,7 +284,7 @@ class SearchPlanner:
             strokes = self._sweep(layout, state, sigma)
         if not strokes:
             return self._safety(layout, state, targets)
-        verified, rest = self._verify(strokes, layout, state, z, sigma, cfg.endgame_scale if endgame else 1)
+        verified, rest = self._verify(strokes, layout, state, z, sigma, cfg.endgame_scale if endgame else 1, replays)
         half_left = tb is None or self._deadline - time.perf_counter() > 0.5 * tb  # the pass costs about that
         if not endgame and verified[0].p < cfg.rescue_below and half_left:
             # a hard shot: the finer endgame stroke set on the best hitpoints may find a safer stroke
@@ -344,9 +357,12 @@ class SearchPlanner:
             s.prior_p, s.prior_weight = _angle_p(s.margin, sigma), self.config.prior_weight
         return strokes[:n]
 
-    def _verify(self, strokes, layout, state, z, sigma, scale: int) -> tuple[list[_Stroke], list[_Stroke]]:
-        """Noisy replays of the most promising strokes: (verified ranked by value, the rest)."""
-        cfg = self.config
+    def _verify(
+        self, strokes, layout, state, z, sigma, scale: int, cfg: SearchConfig | None = None
+    ) -> tuple[list[_Stroke], list[_Stroke]]:
+        """Noisy replays of the most promising strokes: (verified ranked by value, the rest); ``cfg`` sets how many
+        (default: the planner's)."""
+        cfg = cfg or self.config
         n_verified = cfg.max_verified * scale
         verified = self._shortlist(strokes, n_verified, sigma)
         self._replay(verified, layout, state, z[: cfg.samples], sigma)
