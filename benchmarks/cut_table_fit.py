@@ -25,7 +25,7 @@ os.environ.setdefault("OMP_NUM_THREADS", "1")
 
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.pipeline.photo import MIN_TABLE_IN_VIEW, clean_detections, default_detector, read_surface
-from pix2pockets.pipeline.unseen_pockets import distances_out_of_photo
+from pix2pockets.pipeline.unseen_pockets import distances_out_of_photo, table_points_in_photo
 from pix2pockets.vision.table.estimate import estimate_table
 from pix2pockets.vision.table.fit import TableFitError
 from pix2pockets.vision.table.quad_geometry import share_in_frame
@@ -76,9 +76,7 @@ def main(argv: list[str] | None = None) -> int:
         errors = corner_errors_m(fit, camera, truth_m)
         in_view = share_in_frame(fit.corners_px, size)
         errors_m = [round(float(e), 4) if np.isfinite(e) else None for e in errors]  # None: behind a camera
-        in_photo = [
-            bool(0 <= u <= size[0] and 0 <= v <= size[1]) for u, v in fit.camera.project_table(fit.spec.corners, 0.0)
-        ]
+        in_photo = table_points_in_photo(fit.camera, fit.spec.corners, size).tolist()
         out_m = distances_out_of_photo(fit.camera, fit.spec, size, fit.spec.corners)
         rows.append(
             {

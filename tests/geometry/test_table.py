@@ -145,3 +145,10 @@ def test_the_baulk_line_lies_a_fifth_of_the_length_from_the_head_cushion():
     spec = table_preset("uk7")
     assert spec.baulk_line_x == pytest.approx(84 * INCH / 5)
     assert spec.contains(np.array([spec.baulk_line_x, spec.width / 2]))
+
+
+def test_a_pocket_is_found_by_its_name():
+    spec = TableSpec()
+    assert [spec.pocket_index(p.name) for p in spec.pockets] == list(range(6))
+    with pytest.raises(ValueError, match="no pocket named 'middle'"):
+        spec.pocket_index("middle")

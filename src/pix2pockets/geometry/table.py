@@ -261,6 +261,17 @@ class TableSpec:
             corner("top-left"),
         )
 
+    def pocket_index(self, name: str) -> int:
+        """The index in :attr:`pockets` of the pocket named ``name``.
+
+        Raises:
+            ValueError: no pocket of that name.
+        """
+        for k, pocket in enumerate(self.pockets):
+            if pocket.name == name:
+                return k
+        raise ValueError(f"no pocket named {name!r}: pockets are {', '.join(p.name for p in self.pockets)}")
+
     @property
     def pocket_centres(self) -> np.ndarray:
         """Capture-circle centres of the six pockets [m], shape (6, 2)."""

@@ -144,7 +144,12 @@ def _rail_hit(start: np.ndarray, angle: float, spec: TableSpec) -> np.ndarray:
 
 
 def _is_safety(candidate: Any) -> bool:
-    return bool(getattr(candidate, "safety", False)) or getattr(candidate, "pocket", None) is None
+    """A candidate that pots nothing: the planner's safety, or one without a target ball or pocket."""
+    return (
+        bool(getattr(candidate, "safety", False))
+        or getattr(candidate, "target", None) is None
+        or getattr(candidate, "pocket", None) is None
+    )
 
 
 def _value_of(candidate: Any) -> float:
@@ -170,7 +175,7 @@ def advice_from_candidate(candidate: Any, layout: TableLayout, group: Group) -> 
     pocket = getattr(candidate, "pocket", None)
     kind = getattr(candidate, "kind", None)
     kind = None if kind is None else str(getattr(kind, "value", kind))
-    safety = bool(getattr(candidate, "safety", False)) or target is None or pocket is None
+    safety = _is_safety(candidate)
     hp = getattr(candidate, "hitpoint", None)
     ghost = None
     if not safety:
@@ -316,7 +321,7 @@ def plan_shot(
     g = Group(advice.group)
     # the player aims at the real balls: direct and bank strokes follow the ghost ball; kicks keep their angle
     aim = advice.ghost if advice.kind != "kick" else None
-    pocket = next(i for i, p in enumerate(spec.pockets) if p.name == advice.pocket)
+    pocket = spec.pocket_index(advice.pocket)
     # a kick or a combination is not re-aimed along a line to its pocket: measured with the pocket where it was fitted
     unsure = float(sigmas[pocket]) if advice.kind in ("direct", "bank") else 0.0
     distance = float(np.linalg.norm(np.diff(advice.object_path, axis=0), axis=1).sum())

@@ -269,8 +269,7 @@ class Suggestion:
         is measured with that error, :mod:`pix2pockets.pipeline.unseen_pockets`)."""
         if self.shot.pocket is None:
             return None
-        index = next(i for i, p in enumerate(self.spec.pockets) if p.name == self.shot.pocket)
-        return bool(pockets_in_photo(self.camera, self.spec, self.image_size)[index])
+        return bool(pockets_in_photo(self.camera, self.spec, self.image_size)[self.spec.pocket_index(self.shot.pocket)])
 
     def to_dict(self) -> dict:
         """The JSON document of ``pix2pockets suggest --json``."""

@@ -36,14 +36,17 @@ UNSEEN_GRID = 0.02
 """Spacing of the playing-surface points tested for being in the photo [m]."""
 
 
-def pockets_in_photo(camera: PinholeCamera, spec: TableSpec, image_size: tuple[int, int]) -> np.ndarray:
-    """Whether each pocket's centre (``spec.pockets`` order) lies inside the photo (6,) (``False`` behind the
-    camera)."""
+def table_points_in_photo(camera: PinholeCamera, points: np.ndarray, image_size: tuple[int, int]) -> np.ndarray:
+    """Whether each point on the cloth (n, 2) [m] lies inside the photo (n,) (``False`` behind the camera)."""
     w, h = image_size
-    centres = np.array([p.centre for p in spec.pockets], dtype=float)
-    uv = camera.project_table(centres, 0.0)  # NaN behind the camera
+    uv = camera.project_table(np.asarray(points, dtype=float).reshape(-1, 2), 0.0)  # NaN behind the camera
     with np.errstate(invalid="ignore"):
         return (uv[:, 0] >= 0) & (uv[:, 0] <= w) & (uv[:, 1] >= 0) & (uv[:, 1] <= h)
+
+
+def pockets_in_photo(camera: PinholeCamera, spec: TableSpec, image_size: tuple[int, int]) -> np.ndarray:
+    """Whether each pocket's centre (``spec.pockets`` order) lies inside the photo (6,)."""
+    return table_points_in_photo(camera, spec.pocket_centres, image_size)
 
 
 def distances_out_of_photo(
@@ -51,13 +54,10 @@ def distances_out_of_photo(
 ) -> np.ndarray:
     """How far each table point (n, 2) [m] lies from the part of the playing surface the photo shows (n,) [m]: 0 in
     the photo, inf when the photo shows none of it (within :data:`UNSEEN_GRID`)."""
-    w, h = image_size
     xs = np.arange(0.0, spec.length + 1e-9, UNSEEN_GRID)
     ys = np.arange(0.0, spec.width + 1e-9, UNSEEN_GRID)
     grid = np.stack(np.meshgrid(xs, ys), axis=-1).reshape(-1, 2)
-    uv = camera.project_table(grid, 0.0)  # NaN behind the camera
-    with np.errstate(invalid="ignore"):
-        seen = grid[(uv[:, 0] >= 0) & (uv[:, 0] <= w) & (uv[:, 1] >= 0) & (uv[:, 1] <= h)]
+    seen = grid[table_points_in_photo(camera, grid, image_size)]
     points = np.asarray(points, dtype=float).reshape(-1, 2)
     if len(seen) == 0:
         return np.full(len(points), np.inf)
@@ -69,7 +69,7 @@ def pocket_sigmas(camera: PinholeCamera, spec: TableSpec, image_size: tuple[int,
     :data:`UNSEEN_MARGIN`), else :data:`POCKET_SIGMA_PER_METRE` times its distance from the part of the table in the
     photo, at most :data:`MAX_POCKET_SIGMA`. A pocket is placed where it meets the playing surface (a corner, or the
     middle of a long cushion)."""
-    mouths = np.array([p.centre for p in spec.pockets], dtype=float)
+    mouths = spec.pocket_centres
     mouths[:, 0] = np.clip(mouths[:, 0], 0.0, spec.length)
     mouths[:, 1] = np.clip(mouths[:, 1], 0.0, spec.width)
     out = distances_out_of_photo(camera, spec, image_size, mouths)
