@@ -72,6 +72,25 @@ def test_reds_and_yellows_make_a_blackball_set_and_other_colours_an_american_one
     assert read_ball_set(img, detections(boxes, [2, 2, 0])) is BallSet.AMERICAN
 
 
+def test_a_faint_ball_of_another_colour_weighs_little_against_sure_reds_and_yellows():
+    img, boxes = table_photo(["red", "yellow", "red", "yellow", "blue", "white"])
+    det = detections(boxes, [2, 2, 2, 2, 2, 0])
+    # a blue cue tip or pocket cap the detector is unsure of: 4 x 0.8 against 0.3 is 91 % red and yellow
+    det.confidence[:] = [0.8, 0.8, 0.8, 0.8, 0.3, 0.9]
+    assert read_ball_set(img, det) is BallSet.BLACKBALL
+    det.confidence[4] = 0.8  # a sure blue ball: 80 %
+    assert read_ball_set(img, det) is BallSet.AMERICAN
+
+
+def test_a_sure_red_or_yellow_stripe_is_an_american_set():
+    img, boxes = table_photo(["red", "yellow", "red", "yellow", "yellow", "white"])
+    det = detections(boxes, [2, 2, 2, 2, 3, 0])
+    det.confidence[4] = 0.8  # a 9
+    assert read_ball_set(img, det) is BallSet.AMERICAN
+    det.confidence[4] = 0.55  # a blackball yellow the detector takes for a stripe, unsure
+    assert read_ball_set(img, det) is BallSet.BLACKBALL
+
+
 def test_more_yellows_than_an_american_set_holds_is_a_blackball_set():
     img, boxes = table_photo(["yellow"] * 5 + ["white"])
     assert read_ball_set(img, detections(boxes, [2] * 5 + [0])) is BallSet.BLACKBALL

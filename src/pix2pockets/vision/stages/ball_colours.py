@@ -38,7 +38,8 @@ MIN_COLOURED = 0.25
 MAJORITY = 0.6
 """Share of a ball's coloured pixels one colour needs to name it."""
 BLACKBALL_SHARE = 0.85
-"""Share of the coloured object balls that must be red or yellow for a blackball set."""
+"""Share of the coloured object balls, each weighed by its detection score, that must be red or yellow for a blackball
+set: a chalked cue tip, a pocket cap or a hand on the cloth is a faint "ball" of another colour and weighs little."""
 MIN_COLOURED_BALLS = 3
 """Coloured object balls a photo needs before its set is read from them."""
 AMERICAN_SAME_COLOUR = 4
@@ -47,6 +48,9 @@ MIN_SET_SCORE = 0.2
 """Only object balls the detector is at least this sure of tell the set (faint ones are often not balls)."""
 STRIPE_EVIDENCE = 0.6
 """A ball the detector calls a stripe at least this surely, neither red nor yellow, marks an American set."""
+RED_YELLOW_STRIPE_EVIDENCE = 0.7
+"""A red or yellow ball the detector calls a stripe at least this surely (an 11 or a 9) marks an American set (the
+reds and yellows of 30 real pub frames reach 0.54 at most)."""
 
 MAX_BLACK_SCORE = 190.0
 """A ball that is not red is taken for an unfound black when its :func:`black_scores` is below this (blacks in the
@@ -136,9 +140,10 @@ def read_ball_set(rgb: np.ndarray, det: Detections) -> BallSet:
     """The ball set of a photo from its resolved detections (one class per ball).
 
     Blackball when at least :data:`MIN_COLOURED_BALLS` object balls (of score :data:`MIN_SET_SCORE` or more) are
-    coloured, at least :data:`BLACKBALL_SHARE` of them red or yellow with both colours present (or more of one
-    than an American set has, :data:`AMERICAN_SAME_COLOUR`), and no ball that is neither is a sure stripe;
-    American otherwise (the default for too few coloured balls).
+    coloured, at least :data:`BLACKBALL_SHARE` of them (weighed by their scores) red or yellow with both colours
+    present (or more of one than an American set has, :data:`AMERICAN_SAME_COLOUR`), and no ball is a sure stripe
+    (:data:`STRIPE_EVIDENCE`, :data:`RED_YELLOW_STRIPE_EVIDENCE` for a red or yellow one); American otherwise (the
+    default for too few coloured balls).
     """
     objects = _object_balls(det)
     objects = objects[det.confidence[objects] >= MIN_SET_SCORE]
@@ -146,13 +151,15 @@ def read_ball_set(rgb: np.ndarray, det: Detections) -> BallSet:
     coloured = colours != NONE
     if coloured.sum() < MIN_COLOURED_BALLS:
         return BallSet.AMERICAN
-    red_yellow = np.isin(colours[coloured], (RED, YELLOW))
+    score = det.confidence[objects]
+    red_yellow = np.isin(colours, (RED, YELLOW))
+    red_yellow_share = score[red_yellow].sum() / score[coloured].sum()
     both = (colours == RED).any() and (colours == YELLOW).any()
     # an American set has at most four red-ish (3, 7, 11, 15) and four yellow-ish balls (1, 9 and orange 5, 13)
     one_colour = max((colours == RED).sum(), (colours == YELLOW).sum()) > AMERICAN_SAME_COLOUR
-    striped = (det.class_id[objects] == STRIPE_ID) & (det.confidence[objects] >= STRIPE_EVIDENCE)
-    sure_stripes = striped & (colours == OTHER)
-    if red_yellow.mean() >= BLACKBALL_SHARE and (both or one_colour) and not sure_stripes.any():
+    stripe_floor = np.where(red_yellow, RED_YELLOW_STRIPE_EVIDENCE, STRIPE_EVIDENCE)
+    sure_stripes = (det.class_id[objects] == STRIPE_ID) & (score >= stripe_floor) & coloured
+    if red_yellow_share >= BLACKBALL_SHARE and (both or one_colour) and not sure_stripes.any():
         return BallSet.BLACKBALL
     return BallSet.AMERICAN
 
