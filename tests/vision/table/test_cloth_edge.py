@@ -9,7 +9,14 @@ import numpy as np
 
 from pix2pockets.geometry import PinholeCamera, TableSpec
 from pix2pockets.vision.detect.analytic import standard_views
-from pix2pockets.vision.table.cloth_edge import cloth_colour, cloth_hued, colour_region, snap_fit, snap_to_cloth_edge
+from pix2pockets.vision.table.cloth_edge import (
+    cloth_colour,
+    cloth_hued,
+    colour_region,
+    pull_in_sides,
+    snap_fit,
+    snap_to_cloth_edge,
+)
 from pix2pockets.vision.table.outline_camera import camera_through_outline, outline_rectangle
 from pix2pockets.vision.table.outline_fit import fit_outline
 from tests.vision.table.test_cloth import corner_error, draw_table_photo, view
@@ -234,6 +241,33 @@ def test_a_lit_band_of_the_cloths_hue_is_no_rail():
     cloth: the outline stays on the band's outer edge."""
     truth, snapped = snap_banded((175, 218, 245), start=1.05, rail_out=1.05)  # the cloth's blue-grey, lit
     assert corner_error(snapped, grown(truth, 1.05)) < 1.5
+
+
+def pulled_banded(rail: tuple[int, int, int], start: float, rail_out: float) -> tuple[np.ndarray, np.ndarray, bool]:
+    """The true cloth outline of an oblique view of :func:`banded_photo`, and that photo's outline pulled in from the
+    true one grown by ``start`` (60 px reach) with whether any side moved."""
+    camera = view("oblique")
+    truth = true_outline(camera)
+    img = banded_photo(truth, camera.image_size, rail=rail, rail_out=rail_out)
+    colour = cloth_colour(img, region(grown(truth, 0.9), camera.image_size))
+    pulled = pull_in_sides(img, grown(truth, start), colour, reach=60.0, sides=np.ones(4, dtype=bool))
+    return truth, pulled.corners_px, bool(pulled.moved.any())
+
+
+def test_an_outline_round_a_wide_dark_rail_is_pulled_in_onto_the_cloth():
+    """The model's outline round a whole dark rail, further out than the snap searches: the band inside it is no
+    cloth, so each side moves in to where the cloth starts."""
+    truth, pulled, moved = pulled_banded((70, 45, 30), start=1.12, rail_out=1.12)
+    assert moved and corner_error(grown(truth, 1.12), truth) > 20.0
+    assert corner_error(pulled, truth) < 2.0
+
+
+def test_an_outline_with_the_cloth_inside_it_is_not_pulled_in():
+    truth, pulled, moved = pulled_banded((70, 45, 30), start=1.0, rail_out=1.12)
+    assert not moved and corner_error(pulled, truth) < 1e-9
+    # a lit band of the cloth's own hue (a cushion top) inside the outline is cloth too
+    truth, pulled, moved = pulled_banded((175, 218, 245), start=1.12, rail_out=1.12)
+    assert not moved
 
 
 def test_cloth_hued_is_the_cloths_hue_in_other_light_only():

@@ -74,6 +74,15 @@ MIN_REACH_PX = 6.0
 SECOND_REACH_PX = 4.0
 MAX_REACH = 0.05
 """The search never reaches further than this share of the image diagonal."""
+PULL_BAND_PX = (1, 5)
+"""Band just inside a side, from and to this many pixels in, that must be mostly cloth (:func:`pull_in_sides`)."""
+MIN_CLOTH_INSIDE = 0.5
+"""Share of that band's samples that must be the cloth (its colour or its hue in other light) for the side to stay."""
+PULL_REACH = 0.12
+"""How far in a side off the cloth looks for the cloth [share of the outline's length; at most twice
+:data:`MAX_REACH` of the image diagonal]."""
+CLOTH_RUN = 3
+"""Pixels in a row of the cloth along a profile where the cloth starts."""
 CENTRE_SIGMA = 0.1
 """Spread of the principal point about the image centre, as a share of the image size, when a camera is moved onto
 snapped corners."""
@@ -245,13 +254,8 @@ def snap_to_cloth_edge(
     Returns:
         The outline with each side that found a sharper edge moved onto it.
     """
-    quad = np.asarray(corners_px, dtype=float).reshape(4, 2) - 0.5  # to pixel indices
+    quad, lines = _outward_sides(corners_px)
     movable = np.ones(4, dtype=bool) if sides is None else np.asarray(sides, dtype=bool)
-    centre = quad.mean(axis=0)
-    lines = np.array([line_through(quad[k], quad[(k + 1) % 4]) for k in range(4)])
-    for k in range(4):  # normals out of the cloth
-        if centre @ lines[k, :2] + lines[k, 2] > 0:
-            lines[k] = -lines[k]
     reach = min(reach, MAX_REACH * math.hypot(rgb.shape[1], rgb.shape[0]))
     offsets = np.arange(-math.ceil(reach), math.ceil(reach) + 1, dtype=float)
     moved = np.zeros(4, dtype=bool)
@@ -296,6 +300,70 @@ def snap_to_cloth_edge(
     return SnappedOutline(corners, moved, contrast)
 
 
+def _outward_sides(corners_px: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """An outline's corners (4, 2) [px] as pixel indices and its sides' lines (4, 3), normals out of the cloth."""
+    quad = np.asarray(corners_px, dtype=float).reshape(4, 2) - 0.5
+    centre = quad.mean(axis=0)
+    lines = np.array([line_through(quad[k], quad[(k + 1) % 4]) for k in range(4)])
+    for k in range(4):
+        if centre @ lines[k, :2] + lines[k, 2] > 0:
+            lines[k] = -lines[k]
+    return quad, lines
+
+
+def _cloth_like(rgb: np.ndarray, pts: np.ndarray, colour: np.ndarray) -> np.ndarray:
+    """Whether the photo at ``pts`` (..., 2) [pixel indices] is the cloth: near its colour (:data:`OFF_CLOTH`) or its
+    hue in other light (:func:`cloth_hued`); points off the photo are not."""
+    near = np.nan_to_num(_distance(rgb, pts, colour), nan=np.inf) < OFF_CLOTH
+    return near | cloth_hued(_lab_at(rgb, pts), colour)
+
+
+def pull_in_sides(
+    rgb: np.ndarray, corners_px: np.ndarray, colour: np.ndarray, reach: float, sides: np.ndarray
+) -> SnappedOutline:
+    """Move in each side of an outline that does not have the cloth just inside it.
+
+    The table model's outline can take in a whole rail (a dark coin-op rail beside a light cloth, seen from low),
+    further than :func:`snap_to_cloth_edge` searches. A side whose band just inside (:data:`PULL_BAND_PX`) is mostly
+    not the cloth (:data:`MIN_CLOTH_INSIDE`) is moved in to where each profile's cloth starts (:data:`CLOTH_RUN`
+    pixels of it in a row, within ``reach``), along a robust line through those points, when the band between the
+    two lines is a rail (:func:`rail_between`) and the new line separates cloth from rail at least as sharply.
+
+    Args:
+        rgb: the photo, RGB uint8 (H, W, 3).
+        corners_px: (4, 2) the outline's corners [px], in order around it.
+        colour: the cloth's colour, CIE Lab (:func:`cloth_colour`).
+        reach: how far in the cloth is looked for [px].
+        sides: (4,) bool, the sides that may move.
+    """
+    quad, lines = _outward_sides(corners_px)
+    inward = np.arange(0, math.ceil(reach) + 1, dtype=float)
+    moved = np.zeros(4, dtype=bool)
+    contrast = np.zeros(4)
+    for k in np.flatnonzero(sides):
+        a, b = quad[k], quad[(k + 1) % 4]
+        line = lines[k]
+        base = _along(a, b, line)
+        cloth = _cloth_like(rgb, base[:, None, :] - inward[None, :, None] * line[:2][None, None, :], colour)
+        if cloth[:, PULL_BAND_PX[0] : PULL_BAND_PX[1]].mean() >= MIN_CLOTH_INSIDE:
+            continue
+        starts = np.lib.stride_tricks.sliding_window_view(cloth, CLOTH_RUN, axis=1).all(axis=2)
+        found = starts.any(axis=1)
+        if found.sum() < SAMPLES // 4:
+            continue
+        first = np.argmax(starts, axis=1)[found]
+        new = _edge_line(base[found] - (first[:, None] - 0.5) * line[:2][None], line)
+        if new is None or not rail_between(rgb, new, line, a, b, colour):
+            continue
+        gained = line_contrast(rgb, new, a, b, colour)
+        if gained >= line_contrast(rgb, line, a, b, colour):
+            lines[k], moved[k], contrast[k] = new, True, gained
+    corners = quad_of_lines(lines) + 0.5
+    if not moved.any() or not np.all(np.isfinite(corners)):
+        return SnappedOutline(np.asarray(corners_px, dtype=float).reshape(4, 2), np.zeros(4, dtype=bool), contrast)
+    return SnappedOutline(corners, moved, contrast)
+
+
 def snap_fit(rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.ndarray | None = None) -> TableFit:
     """A table fit moved onto the cloth's edge in the photo.
 
@@ -326,6 +394,11 @@ def snap_fit(rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.nd
     reach = min(max(MIN_REACH_PX, FIRST_REACH * quad_length(outline)), MAX_REACH * math.hypot(w, h))
     first = snap_to_cloth_edge(rgb, outline, colour, reach, sides)
     second = snap_to_cloth_edge(rgb, first.corners_px, colour, SECOND_REACH_PX, sides)
+    pull_reach = min(PULL_REACH * quad_length(outline), 2 * MAX_REACH * math.hypot(w, h))
+    pulled = pull_in_sides(rgb, second.corners_px, colour, pull_reach, sides)
+    if pulled.moved.any():  # onto the steepest change near where the cloth starts
+        again = snap_to_cloth_edge(rgb, pulled.corners_px, colour, SECOND_REACH_PX, pulled.moved)
+        second = SnappedOutline(again.corners_px, second.moved | pulled.moved, again.contrast)
     moved = int((first.moved | second.moved).sum())
     floor = MIN_FOCAL * max(w, h)
     if not moved and fit.camera.K[1, 1] >= floor:
