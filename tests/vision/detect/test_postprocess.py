@@ -10,6 +10,7 @@ from pix2pockets.vision.detect.postprocess import (
     nms_indices,
     postprocess,
     resolve_ball_classes,
+    share_inside,
 )
 
 
@@ -25,6 +26,13 @@ def test_box_iou_known_values():
     a = np.array([[0, 0, 10, 10.0]])
     b = np.array([[0, 0, 10, 10], [5, 0, 15, 10], [20, 20, 30, 30.0]])
     assert np.allclose(box_iou(a, b), [[1.0, 50 / 150, 0.0]])
+
+
+def test_share_inside_is_the_part_of_each_box_within_the_other():
+    small = np.array([[2, 2, 6, 6.0], [8, 0, 12, 10]])
+    big = np.array([[0, 0, 10, 10.0]])
+    assert np.allclose(share_inside(small, big), [[1.0], [0.5]])
+    assert np.allclose(share_inside(big, small), [[0.16, 0.2]])  # the big box is mostly outside either
 
 
 def test_nms_keeps_best_of_overlapping_pair_and_far_box():

@@ -125,6 +125,33 @@ def test_a_black_mirroring_the_room_is_found_among_the_yellows():
     assert named.class_id[7] == BLACK_ID and (named.class_id[:7] == STRIPE_ID).all()
 
 
+def test_a_black_boxed_whole_and_in_part_is_named_whole_and_its_part_dropped():
+    """A black mirroring a window boxed twice: whole, as an unsure black, and its pale middle alone, which makes one
+    yellow too many. The whole box is the black; the part is no ball of its own."""
+    img, boxes = table_photo(["yellow"] * 7 + ["pale-black", "white"])
+    centre = (boxes[7, :2] + boxes[7, 2:]) / 2
+    part = np.concatenate([centre - 5, centre + 5])[None]  # the middle of the black
+    boxes = np.concatenate([boxes, part])
+    det = Detections(
+        boxes, np.array([0.6] * 7 + [0.2, 0.9, 0.3]), np.array([2] * 7 + [1, 0, 2]), (boxes[:, :2] + boxes[:, 2:]) / 2
+    )
+    assert (ball_colours(img, boxes[[0, 9]]) == YELLOW).all()
+    named = blackball_classes(img, det)
+    assert len(named) == 9  # seven yellows, the black and the cue ball
+    assert np.flatnonzero(named.class_id == BLACK_ID).tolist() == [7] and named.boxes[7].tolist() == boxes[7].tolist()
+
+
+def test_an_unsure_black_blacker_than_one_yellow_too_many_is_the_black():
+    img, boxes = table_photo(["yellow"] * 8 + ["black", "white"])
+    x1, y1, x2, y2 = boxes[7].astype(int)  # a yellow in shadow: the blackest of the eight
+    img[y1 : y2 + 1, x1 : x2 + 1] = (img[y1 : y2 + 1, x1 : x2 + 1] * 0.6).astype(np.uint8)
+    det = Detections(
+        boxes, np.array([0.6] * 8 + [0.2, 0.9]), np.array([2] * 8 + [1, 0]), (boxes[:, :2] + boxes[:, 2:]) / 2
+    )
+    named = blackball_classes(img, det)
+    assert np.flatnonzero(named.class_id == BLACK_ID).tolist() == [8]
+
+
 def test_a_yellow_in_shadow_is_no_black_but_a_much_darker_one_is():
     img, boxes = table_photo(["yellow"] * 4 + ["white"])
     for k, light in enumerate([0.36, 0.36, 0.36, 0.3]):  # a dim table, one yellow in a little more shadow

@@ -43,6 +43,16 @@ def box_iou(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return paired_box_iou(a[:, None, :], b[None, :, :])
 
 
+def share_inside(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Share of each box of ``a`` (n, 4) that lies inside each box of ``b`` (m, 4), xyxy [px]; returns (n, m)."""
+    a = np.asarray(a, dtype=float).reshape(-1, 1, 4)
+    b = np.asarray(b, dtype=float).reshape(1, -1, 4)
+    inter = np.prod(np.clip(np.minimum(a[..., 2:], b[..., 2:]) - np.maximum(a[..., :2], b[..., :2]), 0, None), axis=-1)
+    area = np.prod(np.clip(a[..., 2:] - a[..., :2], 0, None), axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(area > 0, inter / area, 0.0)
+
+
 def nms_indices(boxes: np.ndarray, scores: np.ndarray, iou_threshold: float = DEFAULT_NMS_IOU) -> np.ndarray:
     """Greedy non-maximum suppression; returns kept indices, highest score first.
 

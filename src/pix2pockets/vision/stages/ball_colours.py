@@ -21,6 +21,7 @@ import numpy as np
 from pix2pockets.state.ball_set import BallSet
 from pix2pockets.vision.classes import CLASS_NAMES
 from pix2pockets.vision.detect.detections import Detections
+from pix2pockets.vision.detect.postprocess import share_inside
 
 BLACK_ID = CLASS_NAMES.index("black")
 SOLID_ID = CLASS_NAMES.index("solid")
@@ -69,6 +70,9 @@ MIN_BLACK_SCORE = 0.15
 pipeline keeps a black from this score up; fainter ones are mostly pockets)."""
 BLACK_CANDIDATE_SCORE = 0.25
 """Least detection score of a ball that may be taken for an unfound black."""
+PART_OF_BALL = 0.6
+"""A box with at least this share inside another ball's box is a part of that ball (a black mirroring a window can be
+boxed twice: whole, and its dark half alone)."""
 
 RED, YELLOW, OTHER, NONE = 0, 1, 2, 3
 """Colours :func:`ball_colours` returns (``NONE``: too few coloured pixels, e.g. the cue ball or the black)."""
@@ -205,8 +209,8 @@ def unfound_black(
     """
     for colour in (RED, YELLOW):
         same = objects[(colours == colour) & (det.confidence[objects] >= MIN_BLACK_SCORE)]
-        if len(same) > 7:  # one too many of a colour: the black is among them
-            return int(same[int(np.argmin(black_scores(rgb, det.boxes[same])))])
+        if len(same) > 7:  # one too many of a colour: the black is among them, or it is the detector's unsure one
+            return _whole_black(rgb, det, same, blacks[det.confidence[blacks] >= MIN_BLACK_SCORE])
     own = blacks[det.confidence[blacks] >= BLACK_CANDIDATE_SCORE]
     own_scores = black_scores(rgb, det.boxes[own])
     if len(own) and own_scores.min() < MAX_BLACK_SCORE:
@@ -219,13 +223,29 @@ def unfound_black(
     return None
 
 
+def _whole_black(rgb: np.ndarray, det: Detections, same: np.ndarray, blacks: np.ndarray) -> int:
+    """The black where one colour counts one ball too many (indices ``same`` into ``det``): the blackest of them
+    (:func:`black_scores`), or of the detector's own unsure ``blacks`` where one of those is blacker still, or the
+    detector's black that holds the chosen ball's box (:data:`PART_OF_BALL`: the chosen box is part of it)."""
+    scores = black_scores(rgb, det.boxes[same])
+    pick = int(same[int(np.argmin(scores))])
+    if not len(blacks):
+        return pick
+    holders = blacks[share_inside(det.boxes[pick], det.boxes[blacks])[0] >= PART_OF_BALL]
+    if len(holders):
+        return int(holders[int(np.argmax(det.confidence[holders]))])
+    own_scores = black_scores(rgb, det.boxes[blacks])
+    return int(blacks[int(np.argmin(own_scores))]) if own_scores.min() < scores.min() else pick
+
+
 def blackball_classes(rgb: np.ndarray, det: Detections) -> Detections:
     """The detections with every red object ball classed solid and every yellow one stripe (a blackball set's
     reds and yellows); balls of no clear colour keep their class. Numbers read by the detector are dropped
     (blackball balls carry none); ``data[BALL_COLOUR]`` holds each object ball's colour (:data:`NONE` for the
     others).
 
-    The black is chosen by :func:`unfound_black` unless the detector is sure of one (:data:`SURE_BLACK`).
+    The black is chosen by :func:`unfound_black` unless the detector is sure of one (:data:`SURE_BLACK`); an
+    object ball boxed within the chosen black's box (:data:`PART_OF_BALL`) is a part of it and is dropped.
     """
     objects = _object_balls(det)
     colours = ball_colours(rgb, det.boxes[objects])
@@ -233,11 +253,14 @@ def blackball_classes(rgb: np.ndarray, det: Detections) -> Detections:
     class_id[objects[colours == RED]] = SOLID_ID
     class_id[objects[colours == YELLOW]] = STRIPE_ID
     blacks = np.flatnonzero(det.is_ball & (det.class_id == BLACK_ID))
+    keep = np.ones(len(det), dtype=bool)
     if not np.any(det.confidence[blacks] >= SURE_BLACK):
         black = unfound_black(rgb, det, objects, colours, blacks)
         if black is not None:
             class_id[blacks] = STRIPE_ID  # unsure blacks that lose play as object balls
             class_id[black] = BLACK_ID
+            parts = share_inside(det.boxes[objects], det.boxes[black])[:, 0] >= PART_OF_BALL
+            keep[objects[parts & (objects != black)]] = False  # a part of the black boxed on its own
     colour = np.full(len(det), NONE)
     colour[objects] = colours
     # a red or yellow ball's class is its colour: its score is the detector's evidence of a ball there
@@ -245,4 +268,5 @@ def blackball_classes(rgb: np.ndarray, det: Detections) -> Detections:
     named = objects[(colours == RED) | (colours == YELLOW)]
     confidence[named] = np.fmax(confidence[named], det.ball_score[named])
     data = {k: v for k, v in det.data.items() if k != "number_probs"}
-    return replace(det, class_id=class_id, confidence=confidence, data={**data, BALL_COLOUR: colour})
+    classed = replace(det, class_id=class_id, confidence=confidence, data={**data, BALL_COLOUR: colour})
+    return classed if keep.all() else classed[keep]
