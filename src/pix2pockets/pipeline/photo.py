@@ -20,6 +20,7 @@ import numpy as np
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.raster import table_to_env_pixels
 from pix2pockets.geometry.table import TableSpec, table_preset
+from pix2pockets.pipeline.break_shot import OPEN_TABLE
 from pix2pockets.pipeline.planning import ShotPlanner, default_planner, place_in_hand, plan_shot, planner_for_set
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
 from pix2pockets.pipeline.unseen_pockets import pocket_sigmas
@@ -351,7 +352,8 @@ def suggest(
         position_cov = np.concatenate([position_cov.reshape(-1, 2, 2), np.zeros((1, 2, 2))])  # put there exactly
     unseen = pocket_sigmas(fit.camera, spec, (w, h))
     advice = plan_shot(layout, group_asked, planner, rng, position_sigma=position_cov, pocket_sigma=unseen)
-    advice = replace(advice, group=group_name(advice.group, chosen))
+    if advice.group != OPEN_TABLE:
+        advice = replace(advice, group=group_name(advice.group, chosen))
     timings["plan"] = time.perf_counter() - t
 
     balls = tuple(

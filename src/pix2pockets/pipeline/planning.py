@@ -20,6 +20,7 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
+from pix2pockets.pipeline.break_shot import break_advice, racked_balls
 from pix2pockets.pipeline.result import ShotAdvice
 from pix2pockets.pipeline.unseen_pockets import pocket_hit_share
 from pix2pockets.planner.ball_in_hand import best_placement
@@ -286,11 +287,15 @@ def plan_shot(
     the share of those errors their pocket still takes, and the chosen direct or bank shot's chance is measured with its
     pocket's error.
 
+    A racked table gets the break (:mod:`pix2pockets.pipeline.break_shot`, no chance), whatever the group.
+
     Raises:
         ValueError: no cue ball, or no ball of the group (and no 8-ball) on the table.
     """
     if layout.cue_index is None:
         raise ValueError("no cue ball found on the table")
+    if len(racked_balls(layout)):
+        return break_advice(layout)
     spec = layout.spec
     sigmas = np.zeros(len(spec.pockets)) if pocket_sigma is None else np.asarray(pocket_sigma, dtype=float)
 

@@ -103,7 +103,7 @@ class ShotAdvice:
     Attributes:
         target_ball: index into ``Suggestion.balls`` of the object ball (``None`` for a safety).
         pocket: pocket name (``TableSpec.pockets``), or ``None``.
-        kind: ``direct``, ``bank`` or ``kick`` (``None`` for a safety).
+        kind: ``direct``, ``bank``, ``kick`` or ``break`` (a racked table; ``None`` for a safety).
         cue_angle: stroke direction [rad], counter-clockwise from +x.
         speed: cue-ball speed [m/s].
         success_probability: the chance in [0, 1]: the measured fraction ``chance`` when there is one, else the
@@ -177,6 +177,8 @@ class ShotAdvice:
             return f"No good pot for {self.group}: safe shot at power {self.power_level}/30{chance}"
         ball = balls[self.target_ball]
         x, y = ball.table_xy_m
+        if self.kind == "break":
+            return f"Break: the cue ball full into the {ball.name} at ({x:.2f}, {y:.2f}) m, power {self.power_level}/30"
         return (
             f"{ball.name} at ({x:.2f}, {y:.2f}) m -> {self.pocket} pocket, {self.kind}, "
             f"power {self.power_level}/30{chance} ({self.group})"

@@ -1,0 +1,68 @@
+"""A racked table gets the break: the rack told from other layouts, the stroke, the text and the JSON."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from pix2pockets.pipeline.break_shot import OPEN_TABLE, break_advice, racked_balls
+from pix2pockets.pipeline.planning import plan_shot
+from pix2pockets.pipeline.result import MAX_SPEED, LocatedBall
+from pix2pockets.state import TableLayout, eight_ball_rack, random_layout
+from pix2pockets.testing import NearestPocketPlanner
+
+
+def test_a_rack_is_racked_and_scattered_balls_are_not():
+    rack = eight_ball_rack(rng=np.random.default_rng(0))
+    assert len(racked_balls(rack)) == 15
+    rng = np.random.default_rng(1)
+    for _ in range(20):
+        assert not len(racked_balls(random_layout(rng, list(range(16)))))
+
+
+def test_a_rack_with_balls_missing_or_knocked_away_is_still_racked_up_to_a_point():
+    rack = eight_ball_rack(rng=np.random.default_rng(0))
+    moved = rack.positions.copy()
+    moved[[13, 14, 15]] = [[0.3, 0.3], [0.5, 0.9], [1.2, 1.0]]  # three balls away from the rack
+    assert len(racked_balls(TableLayout(rack.balls, moved, rack.spec))) == 12
+    moved[12] = [0.8, 0.2]  # a fourth: too few left together
+    assert not len(racked_balls(TableLayout(rack.balls, moved, rack.spec)))
+
+
+def test_the_break_sends_the_cue_ball_full_at_the_nearest_racked_ball_at_full_power():
+    rack = eight_ball_rack(rng=np.random.default_rng(0))
+    advice = break_advice(rack)
+    cue, head = rack.positions[rack.cue_index], rack.positions[advice.target_ball]
+    nearest = min(racked_balls(rack), key=lambda i: np.linalg.norm(rack.positions[i] - cue))
+    assert advice.target_ball == nearest and advice.kind == "break" and advice.pocket is None
+    assert advice.speed == MAX_SPEED and advice.power_level == 30
+    assert math.isclose(advice.cue_angle, math.atan2(*(head - cue)[::-1]))
+    gap = np.linalg.norm(advice.ghost - head)  # the cue ball's centre at contact
+    assert math.isclose(gap, rack.spec.ball_radius + rack.spec.cue_radius)
+    assert advice.success_probability is None and advice.chance is None and advice.group == OPEN_TABLE
+
+
+def test_plan_shot_on_a_rack_gives_the_break_whatever_the_group():
+    rack = eight_ball_rack(rng=np.random.default_rng(0))
+    for group in ("solids", "stripes", "auto"):
+        assert plan_shot(rack, group, NearestPocketPlanner()).kind == "break"
+    scattered = random_layout(np.random.default_rng(2), list(range(16)))
+    assert plan_shot(scattered, "auto", NearestPocketPlanner()).kind != "break"
+
+
+def test_the_break_reads_as_a_break_and_writes_valid_json():
+    rack = eight_ball_rack(rng=np.random.default_rng(0))
+    advice = break_advice(rack)
+    balls = tuple(LocatedBall("solid", 0.9, (0, 0, 1, 1), (0, 0), tuple(xy), (0, 0)) for xy in rack.positions.tolist())
+    assert advice.describe(balls).startswith("Break: the cue ball full into the")
+    d = json.loads(json.dumps(advice.to_dict()))
+    assert d["kind"] == "break" and d["success_probability"] is None and d["power_level"] == 30
+
+
+def test_no_break_without_a_cue_ball_or_a_rack():
+    rack = eight_ball_rack(rng=np.random.default_rng(0))
+    with pytest.raises(ValueError, match="no cue ball"):
+        break_advice(rack.without([rack.cue_index]))
+    with pytest.raises(ValueError, match="not racked"):
+        break_advice(random_layout(np.random.default_rng(3), list(range(16))))
