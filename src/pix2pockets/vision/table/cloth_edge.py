@@ -339,7 +339,7 @@ def pull_in_sides(
     quad, lines = _outward_sides(corners_px)
     inward = np.arange(0, math.ceil(reach) + 1, dtype=float)
     moved = np.zeros(4, dtype=bool)
-    contrast = np.zeros(4)
+    contrast = np.array([line_contrast(rgb, lines[k], quad[k], quad[(k + 1) % 4], colour) for k in range(4)])
     for k in np.flatnonzero(sides):
         a, b = quad[k], quad[(k + 1) % 4]
         line = lines[k]
@@ -356,7 +356,7 @@ def pull_in_sides(
         if new is None or not rail_between(rgb, new, line, a, b, colour):
             continue
         gained = line_contrast(rgb, new, a, b, colour)
-        if gained >= line_contrast(rgb, line, a, b, colour):
+        if gained >= contrast[k]:
             lines[k], moved[k], contrast[k] = new, True, gained
     corners = quad_of_lines(lines) + 0.5
     if not moved.any() or not np.all(np.isfinite(corners)):
