@@ -195,7 +195,8 @@ def unfound_black(
     """The black of a blackball set the detector is unsure of (an index into ``det``), or None.
 
     In this order: where one colour counts more than 7 balls (of score :data:`MIN_BLACK_SCORE` or more), the blackest
-    of them (a black mirroring the room can look yellow throughout); else the detector's own unsure black when it looks
+    of them (a black mirroring the room can look yellow throughout), or the detector's own unsure black where it is
+    blacker still or holds that ball's box (:func:`_whole_black`); else the detector's own unsure black when it looks
     black (:func:`black_scores` under :data:`MAX_BLACK_SCORE`, score :data:`BLACK_CANDIDATE_SCORE` or more); else the
     blackest yellow or colourless ball (under :data:`MAX_BLACK_SCORE`, score :data:`BLACK_CANDIDATE_SCORE` or more:
     fainter ones are often pockets), a yellow one only when clearly darker than at least :data:`MIN_OTHER_YELLOWS`
