@@ -6,9 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from pix2pockets.pipeline.break_shot import OPEN_TABLE, break_advice, racked_balls
-from pix2pockets.pipeline.planning import plan_shot
+from pix2pockets.pipeline.break_shot import OPEN_TABLE, break_advice, break_spot, racked_balls
+from pix2pockets.pipeline.planning import place_in_hand, plan_shot
 from pix2pockets.pipeline.result import MAX_SPEED, LocatedBall
+from pix2pockets.rules import InHand
 from pix2pockets.state import TableLayout, eight_ball_rack, random_layout
 from pix2pockets.testing import NearestPocketPlanner
 
@@ -66,3 +67,18 @@ def test_no_break_without_a_cue_ball_or_a_rack():
         break_advice(rack.without([rack.cue_index]))
     with pytest.raises(ValueError, match="not racked"):
         break_advice(random_layout(np.random.default_rng(3), list(range(16))))
+
+
+def test_ball_in_hand_on_a_rack_is_put_where_the_break_is_played_from_away_from_the_rack():
+    rack = eight_ball_rack(rng=np.random.default_rng(0))
+    spec = rack.spec
+    balls = rack.without([rack.cue_index])
+    assert np.allclose(break_spot(balls, InHand.TABLE), [spec.head_string_x, spec.width / 2])
+    assert np.allclose(break_spot(balls, InHand.BAULK), [spec.baulk_line_x - spec.cue_radius, spec.width / 2])
+    turned = TableLayout(balls.balls, balls.positions * [-1, 1] + [spec.length, 0], spec)  # the rack at the other end
+    assert np.allclose(break_spot(turned, InHand.TABLE), [spec.length - spec.head_string_x, spec.width / 2])
+    placed, _ = place_in_hand(turned, "auto", NearestPocketPlanner(), InHand.TABLE)
+    assert np.allclose(placed.positions[placed.cue_index], break_spot(turned, InHand.TABLE))
+    assert plan_shot(placed, "auto", NearestPocketPlanner()).kind == "break"
+    with pytest.raises(ValueError, match="not racked"):
+        break_spot(random_layout(np.random.default_rng(4), list(range(1, 16))), InHand.TABLE)

@@ -4,7 +4,8 @@ A photo taken before a game starts shows the object balls still in their triangl
 frozen against others), and a planner looking for one finds only a soft safety. :func:`racked_balls` tells a rack
 (at least :data:`RACKED_BALLS` object balls within :data:`RACK_REACH` ball diameters of their middle: the corners
 of a 15-ball triangle lie 2.31 diameters from its centre, balls spread after a break lie much further) and
-:func:`break_advice` gives the break: the cue ball sent full at the rack's nearest ball at full power.
+:func:`break_advice` gives the break: the cue ball sent full at the rack's nearest ball at full power. With ball in
+hand, :func:`break_spot` says where the cue ball is put for it.
 
 No chance comes with it. The event physics treats a rack of touching balls as a sequence of two-ball collisions,
 which passes a break's force through the rack unlike real balls (on the standard rack, struck full from the head
@@ -26,6 +27,7 @@ import math
 import numpy as np
 
 from pix2pockets.pipeline.result import MAX_SPEED, ShotAdvice
+from pix2pockets.rules import InHand
 from pix2pockets.state import BallClass, Shot, TableLayout
 
 RACKED_BALLS = 12
@@ -80,3 +82,20 @@ def break_advice(layout: TableLayout) -> ShotAdvice:
         ghost=contact,
         stroke=Shot(angle=angle, speed=MAX_SPEED),
     )
+
+
+def break_spot(layout: TableLayout, area: InHand) -> np.ndarray:
+    """Where the cue ball is put for the break with ball in hand [m], (2,): on the long axis at the end away from the
+    rack, on the head string (a quarter of the length from that end) or, in ``InHand.BAULK``, just behind the baulk
+    line (a fifth). The table frame's ends come from the photo's fit, so the end is the one away from the rack.
+
+    Raises:
+        ValueError: the balls are not racked.
+    """
+    rack = racked_balls(layout)
+    if not len(rack):
+        raise ValueError("the balls are not racked")
+    spec = layout.spec
+    from_end = spec.baulk_line_x - spec.cue_radius if area is InHand.BAULK else spec.head_string_x
+    rack_x = float(np.median(layout.positions[rack, 0]))
+    return np.array([from_end if rack_x >= spec.length / 2 else spec.length - from_end, spec.width / 2])

@@ -20,13 +20,13 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
-from pix2pockets.pipeline.break_shot import break_advice, racked_balls
+from pix2pockets.pipeline.break_shot import break_advice, break_spot, racked_balls
 from pix2pockets.pipeline.result import ShotAdvice
 from pix2pockets.pipeline.unseen_pockets import pocket_hit_share
 from pix2pockets.planner.ball_in_hand import best_placement
 from pix2pockets.planner.chance import Chance, measure_chance
 from pix2pockets.rules import GameState, InHand
-from pix2pockets.state import BallClass, Group, Shot, TableLayout
+from pix2pockets.state import Ball, BallClass, Group, Shot, TableLayout
 from pix2pockets.state.ball_set import BallSet
 
 
@@ -254,10 +254,19 @@ def place_in_hand(
     :func:`~pix2pockets.planner.ball_in_hand.best_placement`), anywhere free on the table or behind the baulk line
     (``area``). Returns the layout, its placed cue ball last, and the group it was placed for.
 
+    A racked table gets the cue ball where the break is played from
+    (:func:`~pix2pockets.pipeline.break_shot.break_spot`) when that spot is free.
+
     Raises:
         ValueError: as :func:`groups_to_plan`, or no free spot in ``area``.
     """
     base = layout if layout.cue_index is None else layout.without([layout.cue_index])
+    if len(racked_balls(base)):
+        spot = break_spot(base, area)
+        clear = np.linalg.norm(base.positions - spot, axis=1).min() > base.spec.ball_radius + base.spec.cue_radius
+        if clear:
+            placed = TableLayout((*base.balls, Ball.numbered(0)), np.vstack([base.positions, spot]), base.spec)
+            return placed, groups_to_plan(base, group)[0]
     best: tuple[float, TableLayout, Group] | None = None
     for g in groups_to_plan(base, group):
         placed, top = best_placement(base, planner, GameState(group=g), rng, area)
