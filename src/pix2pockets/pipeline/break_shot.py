@@ -9,7 +9,8 @@ hand, :func:`break_spot` says where the cue ball is put for it.
 
 No chance comes with it. The event physics treats a rack of touching balls as a sequence of two-ball collisions,
 which passes a break's force through the rack unlike real balls (on the standard rack, struck full from the head
-spot, it pots a ball in 65 % of breaks at 6 m/s and 7 % at 8 m/s), so a measured chance would mislead.
+spot, it pots a ball in 65 % of breaks at 6 m/s and 7 % at 8 m/s: ``benchmarks/rack_break.py``), so a measured chance
+would mislead.
 
 Example:
     >>> from pix2pockets.state import eight_ball_rack

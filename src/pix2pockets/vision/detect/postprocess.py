@@ -24,14 +24,22 @@ from pix2pockets.vision.detect.detections import Detections
 DEFAULT_NMS_IOU = 0.5
 
 
+def _area(boxes: np.ndarray) -> np.ndarray:
+    """Areas of boxes, xyxy in the last axis."""
+    return np.prod(np.clip(boxes[..., 2:] - boxes[..., :2], 0, None), axis=-1)
+
+
+def _intersection(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Intersection areas of boxes ``a`` and ``b``, xyxy in the last axis, other axes broadcast."""
+    return _area(np.concatenate([np.maximum(a[..., :2], b[..., :2]), np.minimum(a[..., 2:], b[..., 2:])], axis=-1))
+
+
 def paired_box_iou(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """IoU of boxes ``a`` and ``b`` paired element by element: xyxy in the last axis, other axes broadcast."""
     a = np.asarray(a, dtype=float)
     b = np.asarray(b, dtype=float)
-    inter = np.prod(np.clip(np.minimum(a[..., 2:], b[..., 2:]) - np.maximum(a[..., :2], b[..., :2]), 0, None), axis=-1)
-    area_a = np.prod(np.clip(a[..., 2:] - a[..., :2], 0, None), axis=-1)
-    area_b = np.prod(np.clip(b[..., 2:] - b[..., :2], 0, None), axis=-1)
-    union = area_a + area_b - inter
+    inter = _intersection(a, b)
+    union = _area(a) + _area(b) - inter
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(union > 0, inter / union, 0.0)
 
@@ -47,10 +55,9 @@ def share_inside(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Share of each box of ``a`` (n, 4) that lies inside each box of ``b`` (m, 4), xyxy [px]; returns (n, m)."""
     a = np.asarray(a, dtype=float).reshape(-1, 1, 4)
     b = np.asarray(b, dtype=float).reshape(1, -1, 4)
-    inter = np.prod(np.clip(np.minimum(a[..., 2:], b[..., 2:]) - np.maximum(a[..., :2], b[..., :2]), 0, None), axis=-1)
-    area = np.prod(np.clip(a[..., 2:] - a[..., :2], 0, None), axis=-1)
+    area = _area(a)
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(area > 0, inter / area, 0.0)
+        return np.where(area > 0, _intersection(a, b) / area, 0.0)
 
 
 def nms_indices(boxes: np.ndarray, scores: np.ndarray, iou_threshold: float = DEFAULT_NMS_IOU) -> np.ndarray:
