@@ -6,11 +6,12 @@ four lines of the cloth's outer edge (where the cushion cloth meets the rails), 
 ``scripts/table_corner_labels.py`` (its docstring says how; ``draw`` puts the labels back on the photos). Their
 crossings are the labelled corners.
 
-For every whole-table photo the pipeline's own steps (bundled detector, post-processing, table model, ``estimate_table``
-with ``--table``) fit the table; the fitted cloth outline (the playing surface grown by the cushion width, at
-cushion height) is projected into the photo and its corners matched to the labelled ones. A corner's error is
-its distance in the photo divided by the table's length in the photo (the labelled outline's longer pair of
-opposite sides); a photo is *right* when all four corners are within ``--tolerance`` (2 %) of it. The median
+For every whole-table photo the pipeline's own steps fit the table (bundled detector, then ``find_table`` as
+``suggest`` runs it: post-processing for the ball set read from the photo, table model, ``estimate_table`` with
+``--table``, a blackball set's table sized among the UK ones); the fitted cloth outline (the playing surface grown by
+the cushion width, at cushion height) is projected into the photo and its corners matched to the labelled ones. A
+corner's error is its distance in the photo divided by the table's length in the photo (the labelled outline's longer
+pair of opposite sides); a photo is *right* when all four corners are within ``--tolerance`` (2 %) of it. The median
 distance on the table itself (through the homography of the labelled corners) is reported too: there a pixel of
 reading error at the far end of an oblique view is several centimetres. ``suggest`` then runs on the same
 detections and a photo *has a shot* when it returns one.
@@ -32,10 +33,9 @@ import cv2
 import numpy as np
 
 from pix2pockets.geometry import table_preset
-from pix2pockets.pipeline.photo import clean_detections, default_detector, read_surface, suggest
+from pix2pockets.pipeline.photo import default_detector, find_table, suggest
 from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.image_io import image_grid, read_image_rgb
-from pix2pockets.vision.table.estimate import estimate_table
 from pix2pockets.vision.table.fit import TableFit, TableFitError
 from pix2pockets.vision.table.keypoints import TableModel
 from pix2pockets.vision.table.outline_camera import CUSHION_WIDTH, outline_rectangle
@@ -135,16 +135,13 @@ def main() -> None:
         if not path.is_file():
             raise SystemExit(f"{path} not found: pass --data, the real-snooker-vision folder")
         image = read_image_rgb(path)
-        size = (image.shape[1], image.shape[0])
         labels_px = quad_of_point_sets(entry["lines"])
         t = time.perf_counter()
         raw = detector.detect(image)
-        det = clean_detections(raw)
         row: dict = {"image": entry["image"]}
         fitted_px = None
         try:
-            surface = read_surface(image, det, table_model)
-            fit = estimate_table(image, det, size, spec, pixel_aspect=det.pixel_aspect, surface=surface)
+            _, ball_set, _, fit = find_table(image, raw, spec, table_model)
         except TableFitError as err:
             row.update(fit=False, error=str(err).split(":")[0], right=False, shot=False)
         else:
@@ -155,6 +152,7 @@ def main() -> None:
                 fit=True,
                 source=fit.source,
                 table=fit.spec.name,
+                ball_set=ball_set.value,
                 corner_errors=[round(float(e), 4) for e in errors],
                 table_errors_m=[round(float(e), 3) for e in table_errors(labels_px, fitted_px, table_xy)],
                 right=bool(np.all(errors <= args.tolerance)),

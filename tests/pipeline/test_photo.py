@@ -6,7 +6,7 @@ import pytest
 import pix2pockets
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.pipeline.draw import render_result
-from pix2pockets.pipeline.photo import load_image, no_cue_ball_reason, suggest
+from pix2pockets.pipeline.photo import find_table, load_image, no_cue_ball_reason, suggest
 from pix2pockets.pipeline.result import power_level
 from pix2pockets.state import Ball, Shot, TableLayout
 from pix2pockets.testing import (
@@ -314,3 +314,19 @@ def test_an_unsure_number_is_kept_in_json_but_not_named():
     assert ball.to_dict()["number"] == 3
     sure = LocatedBall("solid", 0.9, (0, 0, 10, 10), (5, 9), (1.0, 0.5), number=3, number_chance=0.8)
     assert sure.name == "3 ball (solid)"
+
+
+def test_find_table_gives_what_suggest_fits():
+    cam = camera("45")
+    layout = example_layout()
+    image = blank_image(cam)
+    raw = LabelDetector(cam, layout).detect(image)
+    det, ball_set, _, fit = find_table(image, raw, SPEC, table_model=False)
+    assert ball_set.value == "american"
+    assert det.is_ball.sum() == len(layout)
+    np.testing.assert_allclose(fit.corners_px, cam.project_table(SPEC.corners, 0.0), atol=3.0)
+    res = suggest(image, "solids", LabelDetector(cam, layout), NearestPocketPlanner(), SPEC, table_model=False)
+    np.testing.assert_allclose(res.corners_px, fit.corners_px)
+    without_diamonds = LabelDetector(cam, layout, diamonds=False).detect(image)
+    with pytest.raises(TableFitError, match="too few table points"):
+        find_table(image, without_diamonds, SPEC, table_model=False)

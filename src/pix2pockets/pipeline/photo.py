@@ -242,6 +242,35 @@ def read_numbers(
     return [(int(n), float(c)) if n >= 0 else (None, None) for n, c in zip(numbers, chances, strict=True)]
 
 
+def find_table(
+    rgb: np.ndarray,
+    raw: Detections,
+    spec: TableSpec | None = None,
+    table_model: TableModel | bool | None = True,
+    ball_set: BallSet | str = "auto",
+) -> tuple[Detections, BallSet, SurfaceOutline | None, TableFit]:
+    """The photo's balls post-processed for its ball set, the set, the playing surface the table model sees and the
+    table fitted to them, as :func:`suggest` finds them.
+
+    Args:
+        rgb: the photo, RGB uint8 (H, W, 3).
+        raw: the detector's raw detections of it.
+        spec: the table; ``None`` measures its size from the balls (a blackball set's 2 in balls measure a UK table).
+        table_model: as in :func:`suggest`.
+        ball_set: ``american``, ``blackball`` or ``auto`` (read from the balls' colours).
+
+    Raises:
+        TableFitError: no table found in the photo (a ``ValueError``).
+    """
+    h, w = rgb.shape[:2]
+    cues = table_cues(rgb, table_model)
+    det, chosen = clean_detections_for_set(raw, rgb, ball_set, None if cues is None else cues.surface_mask())
+    surface = read_surface(rgb, det, table_model, cues)
+    base = table_preset("uk7") if chosen is BallSet.BLACKBALL else None  # 2 in balls measure a UK table
+    fit = estimate_table(rgb, det, (w, h), spec, pixel_aspect=det.pixel_aspect, surface=surface, base=base)
+    return det, chosen, surface, fit
+
+
 def suggest(
     image: str | Path | np.ndarray,
     group: str = "auto",
@@ -304,12 +333,8 @@ def suggest(
     t = time.perf_counter()
     if ball_set == "auto":  # a group of one set names the set
         ball_set = set_of_group(group) or ball_set
-    cues = table_cues(rgb, table_model)
-    det, chosen = clean_detections_for_set(raw, rgb, ball_set, None if cues is None else cues.surface_mask())
+    det, chosen, surface, fit = find_table(rgb, raw, spec, table_model, ball_set)
     wanted = parse_group(group, chosen)
-    surface = read_surface(rgb, det, table_model, cues)
-    base = table_preset("uk7") if chosen is BallSet.BLACKBALL else None  # 2 in balls measure a UK table
-    fit = estimate_table(rgb, det, (w, h), spec, pixel_aspect=det.pixel_aspect, surface=surface, base=base)
     spec = fit.spec
     in_view = share_in_frame(fit.corners_px, (w, h))
     if in_view < MIN_TABLE_IN_VIEW:
