@@ -147,6 +147,20 @@ def test_a_doubtful_ball_claims_the_cue_only_when_no_sure_ball_does():
     assert out.class_id[np.argmax(out.boxes[:, 0])] == 0  # the sure ball (0.5 cue vs 0.4 stripe) wins
 
 
+def test_a_clear_eight_is_not_taken_for_a_faint_cue():
+    # one ball, clearly the 8 (0.61) with a faint cue score (0.12) and a stripe score; no cue ball in view:
+    # claimed cue first, it would be the cue and the 8 would go to a ball with next to no 8 score
+    boxes = np.array([_ball(0), _ball(0.5), _ball(1.0), _ball(100), _ball(100.5)])
+    det = Detections(boxes, np.array([0.61, 0.12, 0.18, 0.9, 0.05]), np.array([1, 0, 3, 2, 1]))
+    out = resolve_ball_classes(det)
+    assert out.class_id[np.argmin(out.boxes[:, 0])] == 1
+    assert out.class_id[np.argmax(out.boxes[:, 0])] == 2
+    # a clear cue ball beside it still takes the cue
+    with_cue = Detections.concatenate([det, Detections(np.array([_ball(200)]), np.array([0.8]), np.array([0]))])
+    out = resolve_ball_classes(with_cue)
+    assert out.class_id[np.argsort(out.boxes[:, 0])].tolist() == [1, 2, 0]
+
+
 def test_at_most_one_posterior_keeps_a_lone_ball_and_splits_between_rivals():
     lone = at_most_one_posterior(np.array([0.7, 0.0, 0.02]))
     assert lone[0] > 0.69 and lone[1] == 0.0  # no rival: about its own score (the rest is "no cue in view")

@@ -151,7 +151,8 @@ def resolve_ball_classes(
     The paper's NMS keeps each ball's single most confident class, so when every class head fires on the
     cue ball (cue 0.5, stripe 0.67, say) the table loses its cue ball. Here overlapping ball detections are
     grouped into one ball with a score per class; the cue and the 8 are then given to the ball that is most
-    clearly each, once each, and every other ball takes the better of solid and stripe. Diamonds pass through;
+    clearly each, once each and the clearest claim first (a ball that is plainly the 8 is not taken for a faint cue
+    when the cue ball is out of view), and every other ball takes the better of solid and stripe. Diamonds pass through;
     finally the usual caps apply.
 
     "Most clearly" is the class's share of the ball's class scores, weighed by the square root of that class's
@@ -196,12 +197,19 @@ def resolve_ball_classes(
     assigned = np.full(len(S), -1)
     share = S / np.maximum(S.sum(axis=1, keepdims=True), 1e-9)
     sure = S.max(axis=1) >= CLAIM_MIN_SCORE
-    for k in ONE_PER_TABLE:  # cue, then black: at most one ball each
-        evidence = np.where(sure, share[:, k] * S[:, k] ** CLAIM_SCORE_POWER, 0.1 * S[:, k] * S[:, k] / best)
-        claim = np.where(assigned < 0, evidence, -1.0)
-        j = int(np.argmax(claim))
-        if claim[j] > 0:
-            assigned[j] = k
+    claims = np.stack(
+        [
+            np.where(sure, share[:, k] * S[:, k] ** CLAIM_SCORE_POWER, 0.1 * S[:, k] * S[:, k] / best)
+            for k in ONE_PER_TABLE
+        ],
+        axis=1,
+    )
+    for _ in ONE_PER_TABLE:  # the clearest claim first: at most one ball each, at most one of them a ball
+        j, c = np.unravel_index(int(np.argmax(claims)), claims.shape)
+        if claims[j, c] <= 0:
+            break
+        assigned[j] = ONE_PER_TABLE[c]
+        claims[j, :], claims[:, c] = -1.0, -1.0
     rest = assigned < 0
     assigned[rest] = 2 + np.argmax(T[rest, 2:], axis=1)
     conf = np.where(assigned >= 2, T[np.arange(len(S)), assigned], S[np.arange(len(S)), assigned])
