@@ -8,7 +8,7 @@ from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.pipeline.draw import render_result
 from pix2pockets.pipeline.photo import find_table, load_image, no_cue_ball_reason, suggest
 from pix2pockets.pipeline.result import power_level
-from pix2pockets.state import Ball, Shot, TableLayout
+from pix2pockets.state import Ball, Shot, TableLayout, eight_ball_rack
 from pix2pockets.testing import (
     SPEC,
     Candidate,
@@ -330,3 +330,20 @@ def test_find_table_gives_what_suggest_fits():
     without_diamonds = LabelDetector(cam, layout, diamonds=False).detect(image)
     with pytest.raises(TableFitError, match="too few table points"):
         find_table(image, without_diamonds, SPEC, table_model=False)
+
+
+def test_a_rack_without_its_cue_ball_is_broken_from_hand():
+    cam = camera("top")
+    rack = eight_ball_rack(SPEC, rng=np.random.default_rng(0))
+    res = suggest(blank_image(cam), "auto", LabelDetector(cam, rack, drop=(rack.cue_index,)), NearestPocketPlanner())
+    assert res.shot.kind == "break"
+    assert res.ball_in_hand == "table"
+    assert res.text.startswith("Ball in hand: cue ball at")
+    cue = res.layout.positions[res.layout.cue_index]
+    assert cue[0] == pytest.approx(SPEC.head_string_x, abs=0.02) or cue[0] == pytest.approx(
+        SPEC.length - SPEC.head_string_x, abs=0.02
+    )
+    assert res.to_dict()["ball_in_hand"] == "table"
+    # scattered balls without a cue ball are no break: the photo lacks its cue ball
+    with pytest.raises(ValueError, match="no cue ball found"):
+        suggest(blank_image(cam), "solids", LabelDetector(cam, example_layout(), drop=(0,)), NearestPocketPlanner())

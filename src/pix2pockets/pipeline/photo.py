@@ -20,7 +20,7 @@ import numpy as np
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.raster import table_to_env_pixels
 from pix2pockets.geometry.table import TableSpec, table_preset
-from pix2pockets.pipeline.break_shot import OPEN_TABLE
+from pix2pockets.pipeline.break_shot import OPEN_TABLE, racked_balls
 from pix2pockets.pipeline.planning import ShotPlanner, default_planner, place_in_hand, plan_shot, planner_for_set
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
 from pix2pockets.pipeline.unseen_pockets import pocket_sigmas
@@ -311,7 +311,8 @@ def suggest(
         ball_in_hand: ``table`` or ``baulk``: the player has the cue ball in hand (after a foul) and may put it
             anywhere free on the table, or behind the baulk line; the photo's cue ball, if any, is picked up and the
             planner places it (:func:`~pix2pockets.pipeline.planning.place_in_hand`). ``None`` or ``none``: the cue
-            ball is played from where it lies in the photo.
+            ball is played from where it lies in the photo; a rack with no cue ball on the table is broken from hand
+            (:func:`break_area`).
 
     Raises:
         ValueError: unreadable image, no table found, too few table points, no cue ball, no balls of the
@@ -359,6 +360,8 @@ def suggest(
     if in_hand is not InHand.NONE and layout.cue_index is not None:  # picked up, to be placed
         seen = [i for i in range(len(layout)) if i != layout.cue_index]
         layout, kept, contact_px = layout.without([layout.cue_index]), kept[np.array(seen, dtype=int)], contact_px[seen]
+    if layout.cue_index is None and in_hand is InHand.NONE and len(racked_balls(layout)):
+        in_hand = break_area(chosen)  # a rack before the break: the breaker has the cue ball in hand
     if layout.cue_index is None and in_hand is InHand.NONE:
         raise ValueError(no_cue_ball_reason(det))
     timings["locate"] = time.perf_counter() - t
@@ -441,6 +444,13 @@ def parse_in_hand(ball_in_hand: InHand | str | None) -> InHand:
     except ValueError:
         choices = ", ".join(a.value for a in InHand)
         raise ValueError(f"unknown ball in hand {str(ball_in_hand)[:40]!r}; choose {choices}") from None
+
+
+def break_area(ball_set: BallSet) -> InHand:
+    """Where the cue ball is put by hand for the break: behind the baulk line for a blackball set (WEPF / EPA), on
+    the head string otherwise (the kitchen of American 8-ball; :func:`~pix2pockets.pipeline.break_shot.break_spot`
+    puts it on the head string for ``InHand.TABLE``)."""
+    return InHand.BAULK if ball_set is BallSet.BLACKBALL else InHand.TABLE
 
 
 def placed_cue_ball(camera: PinholeCamera, xy: np.ndarray, spec: TableSpec) -> LocatedBall:

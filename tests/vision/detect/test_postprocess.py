@@ -161,6 +161,19 @@ def test_a_clear_eight_is_not_taken_for_a_faint_cue():
     assert out.class_id[np.argsort(out.boxes[:, 0])].tolist() == [1, 2, 0]
 
 
+def test_a_plain_stripe_with_a_trace_of_cue_does_not_take_the_cue_from_a_faint_cue_ball():
+    # ball A: a stripe (0.37) the cue head barely fires on (0.07); ball B: a faint cue ball by the player's tip (0.2)
+    boxes = np.array([_ball(0), _ball(0.5), _ball(100)])
+    det = Detections(boxes, np.array([0.37, 0.07, 0.2]), np.array([3, 0, 0]))
+    out = resolve_ball_classes(det)
+    assert out.class_id[np.argmin(out.boxes[:, 0])] == 3
+    assert out.class_id[np.argmax(out.boxes[:, 0])] == 0
+    # with a real cue score the sure ball still out-claims the faint one
+    det = Detections(boxes, np.array([0.37, 0.3, 0.2]), np.array([3, 0, 0]))
+    out = resolve_ball_classes(det)
+    assert out.class_id[np.argmin(out.boxes[:, 0])] == 0
+
+
 def test_at_most_one_posterior_keeps_a_lone_ball_and_splits_between_rivals():
     lone = at_most_one_posterior(np.array([0.7, 0.0, 0.02]))
     assert lone[0] > 0.69 and lone[1] == 0.0  # no rival: about its own score (the rest is "no cue in view")

@@ -117,6 +117,10 @@ def postprocess(
 
 CLAIM_MIN_SCORE = 0.25
 """Balls whose best class score is below this claim the cue or the 8 only when no surer ball does."""
+CLAIM_CLASS_SCORE = 0.1
+"""A sure ball claims the cue or the 8 by its share of that class only where its score for the class reaches this;
+below it, it claims as a faint ball of that class would (a ball that is plainly a stripe, with a cue score of 0.07,
+does not take the cue from a faint cue ball by the player's tip)."""
 CLAIM_SCORE_POWER = 0.5
 """A ball's claim on the cue or the 8 is its share of that class times its score to this power: a faint entry
 that scores only as a cue (a pocket's rim, a cue's tip) does not out-claim a clear cue ball that also scores a little
@@ -199,7 +203,11 @@ def resolve_ball_classes(
     sure = S.max(axis=1) >= CLAIM_MIN_SCORE
     claims = np.stack(
         [
-            np.where(sure, share[:, k] * S[:, k] ** CLAIM_SCORE_POWER, 0.1 * S[:, k] * S[:, k] / best)
+            np.where(
+                sure & (S[:, k] >= CLAIM_CLASS_SCORE),
+                share[:, k] * S[:, k] ** CLAIM_SCORE_POWER,
+                0.1 * np.where(sure, S[:, k], S[:, k] * S[:, k] / best),
+            )
             for k in ONE_PER_TABLE
         ],
         axis=1,
