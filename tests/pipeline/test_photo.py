@@ -125,6 +125,7 @@ def test_no_shot_gives_a_safety_not_an_error():
     ("kwargs", "error", "match"),
     [
         ({"drop": (0,)}, ValueError, "no cue ball found on the table: none was seen"),
+        ({"drop": tuple(range(len(example_layout())))}, ValueError, "no balls found on the table"),
         ({"diamonds": False}, TableFitError, "too few table points"),
     ],
 )

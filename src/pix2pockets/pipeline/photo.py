@@ -357,6 +357,11 @@ def suggest(
     layout = located.to_layout(spec)
     kept = located.detections
     contact_px = located.contact_px
+    if not len(layout):
+        raise ValueError(
+            "no balls found on the table: the table was found but no ball lies on it (photograph it with the balls "
+            "in play, or racked for the break)"
+        )
     if in_hand is not InHand.NONE and layout.cue_index is not None:  # picked up, to be placed
         seen = [i for i in range(len(layout)) if i != layout.cue_index]
         layout, kept, contact_px = layout.without([layout.cue_index]), kept[np.array(seen, dtype=int)], contact_px[seen]
