@@ -1,8 +1,9 @@
 """Table fits on renders of tables without sights, through the shipped models (no diamonds to fit to).
 
 Each render (:func:`pix2pockets.synth.renderer.render`, every camera kind, build, cloth and clutter the renderer
-draws) whose rails carry no sights goes through the pipeline's own steps: the bundled detector, post-processing, the
-table model and ``estimate_table`` (table size from the balls). The fitted playing-surface corners (on the cloth) are
+draws) whose rails carry no sights goes through the pipeline's own steps: the bundled detector, then ``find_table`` as
+``suggest`` runs it (post-processing for the ball set read from the photo, the table model, ``estimate_table`` with the
+table size from the balls). The fitted playing-surface corners (on the cloth) are
 compared with the render's exact ones, either way round the table; a corner's error is divided by the table's length
 in the photo (the true outline's longer pair of opposite sides). Only corners within the frame count; one the fit
 puts behind the camera counts as infinitely far off.
@@ -30,9 +31,8 @@ import numpy as np
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
-from pix2pockets.pipeline.photo import clean_detections, default_detector, read_surface
+from pix2pockets.pipeline.photo import default_detector, find_table
 from pix2pockets.synth.palette import CLOTH_COLOURS
-from pix2pockets.vision.table.estimate import estimate_table
 from pix2pockets.vision.table.fit import TableFitError
 from pix2pockets.vision.table.quad_geometry import quad_length
 
@@ -93,10 +93,8 @@ def main(argv: list[str] | None = None) -> int:
             "cushions_in_view": cushions_in_view(truth, (w, h)),
         }
         t = time.perf_counter()
-        det = clean_detections(detector.detect(out.image))
         try:
-            surface = read_surface(out.image, det, True)
-            fit = estimate_table(out.image, det, (w, h), pixel_aspect=det.pixel_aspect, surface=surface)
+            fit = find_table(out.image, detector.detect(out.image))[3]
         except TableFitError as err:
             row.update(fit=False, error=str(err).split(":")[0])
             rows.append(row)
