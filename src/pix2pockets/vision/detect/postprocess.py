@@ -163,7 +163,8 @@ def resolve_ball_classes(
     score (:data:`CLAIM_SCORE_POWER`), among balls whose best score is at least :data:`CLAIM_MIN_SCORE`: which
     ball is the cue is a question of class evidence, and a cue ball half hidden by the cue stick is found with less
     confidence than an open stripe seen from its white pole (doubtful balls only get a class when no sure ball
-    claims it). On the 720p test renders the share lifted cue AP50 from 71 to 82 over ranking by score
+    claims it; a sure ball whose score for the class is under :data:`CLAIM_CLASS_SCORE` claims it as a faint ball of
+    that class would). On the 720p test renders the share lifted cue AP50 from 71 to 82 over ranking by score
     (``docs/benchmarks-detector.md``); the weight lifts blackball renders' cue AP50 from 94.0 to 95.0. The chosen
     cue ball's confidence is then its :func:`at_most_one_posterior` (cue AP50 +1 to +2 on the test renders).
 
@@ -212,7 +213,7 @@ def resolve_ball_classes(
         ],
         axis=1,
     )
-    for _ in ONE_PER_TABLE:  # the clearest claim first: at most one ball each, at most one of them a ball
+    for _ in ONE_PER_TABLE:  # the clearest claim first: each class to one ball, each ball to one class
         j, c = np.unravel_index(int(np.argmax(claims)), claims.shape)
         if claims[j, c] <= 0:
             break
