@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from pix2pockets.pipeline.break_shot import OPEN_TABLE, break_advice, break_spot, racked_balls
+from pix2pockets.pipeline.break_shot import OPEN_TABLE, behind_break_line, break_advice, break_spot, racked_balls
 from pix2pockets.pipeline.planning import place_in_hand, plan_shot
 from pix2pockets.pipeline.result import MAX_SPEED, LocatedBall
 from pix2pockets.rules import InHand
@@ -82,3 +82,18 @@ def test_ball_in_hand_on_a_rack_is_put_where_the_break_is_played_from_away_from_
     assert plan_shot(placed, "auto", NearestPocketPlanner()).kind == "break"
     with pytest.raises(ValueError, match="not racked"):
         break_spot(random_layout(np.random.default_rng(4), list(range(1, 16))), InHand.TABLE)
+
+
+def test_behind_the_break_line_is_the_end_away_from_the_rack():
+    rack = eight_ball_rack(rng=np.random.default_rng(0))
+    spec = rack.spec
+    head = rack.positions[rack.cue_index]  # the head spot, on the head string
+    assert behind_break_line(rack, head, InHand.TABLE)
+    assert not behind_break_line(rack, head, InHand.BAULK)  # the baulk line lies nearer the head rail
+    assert behind_break_line(rack, np.array([spec.baulk_line_x - 0.01, 0.3]), InHand.BAULK)
+    assert not behind_break_line(rack, np.array([spec.length / 2, spec.width / 2]), InHand.TABLE)
+    turned = TableLayout(rack.balls, rack.positions * [-1, 1] + [spec.length, 0], spec)  # the rack at the other end
+    assert behind_break_line(turned, np.array([spec.length - 0.1, 0.5]), InHand.TABLE)
+    assert not behind_break_line(turned, head, InHand.TABLE)
+    with pytest.raises(ValueError, match="not racked"):
+        behind_break_line(random_layout(np.random.default_rng(4), list(range(1, 16))), head, InHand.TABLE)

@@ -345,6 +345,14 @@ def test_a_rack_without_its_cue_ball_is_broken_from_hand():
         SPEC.length - SPEC.head_string_x, abs=0.02
     )
     assert res.to_dict()["ball_in_hand"] == "table"
+    # a cue ball left by the rack is picked up for the break; one in the kitchen is played from where it lies
+    by_rack = TableLayout(rack.balls, np.vstack([[SPEC.length / 2, 0.4], rack.positions[1:]]), SPEC)
+    res = suggest(blank_image(cam), "auto", LabelDetector(cam, by_rack), NearestPocketPlanner())
+    assert res.shot.kind == "break" and res.ball_in_hand == "table"
+    assert res.layout.positions[res.layout.cue_index][0] == pytest.approx(SPEC.head_string_x, abs=0.02)
+    res = suggest(blank_image(cam), "auto", LabelDetector(cam, rack), NearestPocketPlanner())
+    assert res.shot.kind == "break" and res.ball_in_hand is None
+    np.testing.assert_allclose(res.layout.positions[res.layout.cue_index], rack.positions[0], atol=0.01)
     # scattered balls without a cue ball are no break: the photo lacks its cue ball
     with pytest.raises(ValueError, match="no cue ball found"):
         suggest(blank_image(cam), "solids", LabelDetector(cam, example_layout(), drop=(0,)), NearestPocketPlanner())

@@ -68,7 +68,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         choices=[a.value for a in InHand],
         help="you have the cue ball in hand: the planner puts it anywhere free on the table (table) or behind the "
         "baulk line at the table's head end (baulk); the photo's cue ball, if any, is picked up. none (default): "
-        "the cue ball is played from where it lies (a rack with no cue ball on the table is broken from hand)",
+        "the cue ball is played from where it lies (a rack is broken from hand when the cue ball is off the table or "
+        "outside the break area)",
     )
     parser.add_argument("--force", action="store_true", help="overwrite existing output files")
     parser.set_defaults(func=run)

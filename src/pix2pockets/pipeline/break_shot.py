@@ -85,6 +85,31 @@ def break_advice(layout: TableLayout) -> ShotAdvice:
     )
 
 
+def _break_line(layout: TableLayout, rack: np.ndarray, area: InHand) -> tuple[float, bool]:
+    """The x of the line the break is played from behind [m] (the head string, or the baulk line for
+    ``InHand.BAULK``) at the end away from ``rack`` (indices of the racked balls), and whether that end is ``x = 0``."""
+    spec = layout.spec
+    from_end = spec.baulk_line_x if area is InHand.BAULK else spec.head_string_x
+    near_zero = float(np.median(layout.positions[rack, 0])) >= spec.length / 2
+    return (from_end if near_zero else spec.length - from_end), near_zero
+
+
+def behind_break_line(layout: TableLayout, xy: np.ndarray, area: InHand) -> bool:
+    """Whether the point ``xy`` (2,) [m] lies where the break on the racked ``layout`` is played from: behind the head
+    string (the kitchen), or the baulk line for ``InHand.BAULK``, at the end away from the rack; up to a ball radius
+    beyond the line counts (a cue ball put on the line, located from a photo).
+
+    Raises:
+        ValueError: the balls are not racked.
+    """
+    rack = racked_balls(layout)
+    if not len(rack):
+        raise ValueError("the balls are not racked")
+    line, near_zero = _break_line(layout, rack, area)
+    slack = layout.spec.ball_radius
+    return bool(xy[0] <= line + slack) if near_zero else bool(xy[0] >= line - slack)
+
+
 def break_spot(layout: TableLayout, area: InHand) -> np.ndarray:
     """Where the cue ball is put for the break with ball in hand [m], (2,): on the long axis at the end away from the
     rack, on the head string (a quarter of the length from that end) or, in ``InHand.BAULK``, just behind the baulk
@@ -96,7 +121,6 @@ def break_spot(layout: TableLayout, area: InHand) -> np.ndarray:
     rack = racked_balls(layout)
     if not len(rack):
         raise ValueError("the balls are not racked")
-    spec = layout.spec
-    from_end = spec.baulk_line_x - spec.cue_radius if area is InHand.BAULK else spec.head_string_x
-    rack_x = float(np.median(layout.positions[rack, 0]))
-    return np.array([from_end if rack_x >= spec.length / 2 else spec.length - from_end, spec.width / 2])
+    line, near_zero = _break_line(layout, rack, area)
+    behind = layout.spec.cue_radius if area is InHand.BAULK else 0.0  # wholly behind the baulk line
+    return np.array([line - behind if near_zero else line + behind, layout.spec.width / 2])

@@ -20,13 +20,14 @@ import numpy as np
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.raster import table_to_env_pixels
 from pix2pockets.geometry.table import TableSpec, table_preset
-from pix2pockets.pipeline.break_shot import OPEN_TABLE, racked_balls
+from pix2pockets.pipeline.break_shot import OPEN_TABLE, behind_break_line, racked_balls
 from pix2pockets.pipeline.planning import ShotPlanner, default_planner, place_in_hand, plan_shot, planner_for_set
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
 from pix2pockets.pipeline.unseen_pockets import pocket_sigmas
 from pix2pockets.rules import InHand
 from pix2pockets.state.ball import BallClass
 from pix2pockets.state.ball_set import BallSet, class_name, group_name, parse_ball_set, parse_group, set_of_group
+from pix2pockets.state.layout import TableLayout
 from pix2pockets.vision.classes import DETECTION_CAPS, ONE_PER_TABLE, ball_class_of
 from pix2pockets.vision.detect.base import Detector
 from pix2pockets.vision.detect.detections import Detections
@@ -311,8 +312,8 @@ def suggest(
         ball_in_hand: ``table`` or ``baulk``: the player has the cue ball in hand (after a foul) and may put it
             anywhere free on the table, or behind the baulk line; the photo's cue ball, if any, is picked up and the
             planner places it (:func:`~pix2pockets.pipeline.planning.place_in_hand`). ``None`` or ``none``: the cue
-            ball is played from where it lies in the photo; a rack with no cue ball on the table is broken from hand
-            (:func:`break_area`).
+            ball is played from where it lies in the photo; a rack is broken from hand when the photo's cue ball is
+            not where the break is played from (:func:`breaks_from_hand`).
 
     Raises:
         ValueError: unreadable image, no table found, too few table points, no cue ball, no balls of the
@@ -362,11 +363,11 @@ def suggest(
             "no balls found on the table: the table was found but no ball lies on it (photograph it with the balls "
             "in play, or racked for the break)"
         )
+    if in_hand is InHand.NONE and breaks_from_hand(layout, chosen):
+        in_hand = break_area(chosen)
     if in_hand is not InHand.NONE and layout.cue_index is not None:  # picked up, to be placed
         seen = [i for i in range(len(layout)) if i != layout.cue_index]
         layout, kept, contact_px = layout.without([layout.cue_index]), kept[np.array(seen, dtype=int)], contact_px[seen]
-    if layout.cue_index is None and in_hand is InHand.NONE and len(racked_balls(layout)):
-        in_hand = break_area(chosen)  # a rack before the break: the breaker has the cue ball in hand
     if layout.cue_index is None and in_hand is InHand.NONE:
         raise ValueError(no_cue_ball_reason(det))
     timings["locate"] = time.perf_counter() - t
@@ -449,6 +450,15 @@ def parse_in_hand(ball_in_hand: InHand | str | None) -> InHand:
     except ValueError:
         choices = ", ".join(a.value for a in InHand)
         raise ValueError(f"unknown ball in hand {str(ball_in_hand)[:40]!r}; choose {choices}") from None
+
+
+def breaks_from_hand(layout: TableLayout, ball_set: BallSet) -> bool:
+    """Whether the photo's balls are a rack broken with the cue ball in hand: no cue ball on the table (the breaker
+    holds it), or one outside the area the break is played from (:func:`break_area`), which the breaker picks up."""
+    if not len(racked_balls(layout)):
+        return False
+    cue = layout.cue_index
+    return cue is None or not behind_break_line(layout, layout.positions[cue], break_area(ball_set))
 
 
 def break_area(ball_set: BallSet) -> InHand:
