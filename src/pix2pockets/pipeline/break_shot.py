@@ -85,9 +85,16 @@ def break_advice(layout: TableLayout) -> ShotAdvice:
     )
 
 
-def _break_line(layout: TableLayout, rack: np.ndarray, area: InHand) -> tuple[float, bool]:
-    """The x of the line the break is played from behind [m] (the head string, or the baulk line for
-    ``InHand.BAULK``) at the end away from ``rack`` (indices of the racked balls), and whether that end is ``x = 0``."""
+def _break_line(layout: TableLayout, area: InHand) -> tuple[float, bool]:
+    """The x of the line the break on the racked ``layout`` is played from behind [m] (the head string, or the baulk
+    line for ``InHand.BAULK``) at the end away from the rack, and whether that end is ``x = 0``.
+
+    Raises:
+        ValueError: the balls are not racked.
+    """
+    rack = racked_balls(layout)
+    if not len(rack):
+        raise ValueError("the balls are not racked")
     spec = layout.spec
     from_end = spec.baulk_line_x if area is InHand.BAULK else spec.head_string_x
     near_zero = float(np.median(layout.positions[rack, 0])) >= spec.length / 2
@@ -102,10 +109,7 @@ def behind_break_line(layout: TableLayout, xy: np.ndarray, area: InHand) -> bool
     Raises:
         ValueError: the balls are not racked.
     """
-    rack = racked_balls(layout)
-    if not len(rack):
-        raise ValueError("the balls are not racked")
-    line, near_zero = _break_line(layout, rack, area)
+    line, near_zero = _break_line(layout, area)
     slack = layout.spec.ball_radius
     return bool(xy[0] <= line + slack) if near_zero else bool(xy[0] >= line - slack)
 
@@ -118,9 +122,6 @@ def break_spot(layout: TableLayout, area: InHand) -> np.ndarray:
     Raises:
         ValueError: the balls are not racked.
     """
-    rack = racked_balls(layout)
-    if not len(rack):
-        raise ValueError("the balls are not racked")
-    line, near_zero = _break_line(layout, rack, area)
+    line, near_zero = _break_line(layout, area)
     behind = layout.spec.cue_radius if area is InHand.BAULK else 0.0  # wholly behind the baulk line
     return np.array([line - behind if near_zero else line + behind, layout.spec.width / 2])
