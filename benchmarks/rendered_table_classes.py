@@ -2,8 +2,9 @@
 table are dropped.
 
 Renders ``--n`` scenes of each ball set (``render(seed, size, ball_set=...)``, seeds from ``--seed``), runs the bundled
-detector, the pipeline's post-processing for the set (given) and its table fit, and compares each labelled ball's
-class with the class of the kept ball that boxes it (IoU >= 0.5; none: missed), two ways:
+detector, then ``find_table`` as ``suggest`` runs it for the set (given; a blackball set's table sized among the UK
+ones), and compares each labelled ball's class with the class of the kept ball that boxes it (IoU >= 0.5; none:
+missed), two ways:
 
 - *located*: the post-processed balls that lie on the fitted table (``locate_balls``): the cue ball and the 8 are
   claimed before the balls off the table are dropped;
@@ -27,12 +28,11 @@ import numpy as np
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
 
-from pix2pockets.pipeline.photo import balls_in_play, clean_detections_for_set, default_detector, read_surface
+from pix2pockets.pipeline.photo import balls_in_play, default_detector, find_table
 from pix2pockets.state.ball_set import BallSet, class_name
 from pix2pockets.synth.renderer import parse_size, render
 from pix2pockets.vision.classes import BALL_IDS, CLASS_NAMES
 from pix2pockets.vision.locate.balls import locate_balls
-from pix2pockets.vision.table.estimate import estimate_table
 from pix2pockets.vision.table.fit import TableFitError
 from real_ball_classes import MISSED, called_classes
 from rendered_blackball import render_options, truth_of
@@ -55,10 +55,8 @@ def main() -> None:
             out = render(args.seed + k, size, ball_set=ball_set.value)
             truth = truth_of(out.labels)
             raw = detector.detect(out.image)
-            det, _ = clean_detections_for_set(raw, out.image, ball_set)
             try:
-                surface = read_surface(out.image, det, True)
-                fit = estimate_table(out.image, det, size, pixel_aspect=det.pixel_aspect, surface=surface)
+                det, _, _, fit = find_table(out.image, raw, ball_set=ball_set)
             except TableFitError:
                 continue
             fitted += 1
