@@ -2,8 +2,9 @@
 
 The cue ball on the head spot is sent full at the apex ball of ``eight_ball_rack()`` ``--breaks`` times per speed,
 its direction jittered by a Gaussian of ``--angle-sigma`` [rad] (seeded), and the share of breaks that pocket an
-object ball, and that pocket the cue ball, is printed per speed. Real breaks pot more the harder they are hit; this
-tells whether the physics can give a break a chance (``pipeline/break_shot.py``).
+object ball, the object balls pocketed per break and the share that pocket the cue ball are printed per speed. Real
+breaks pot more the harder they are hit; this tells whether the physics can give a break a chance
+(``pipeline/break_shot.py``).
 
 Usage:
     PYTHONPATH=src python benchmarks/rack_break.py [--speeds 4,6,8,10] [--breaks 60] [--seed 0] [--json OUT.json]
@@ -36,15 +37,18 @@ def main() -> None:
     sim = EventSimulator()
     rng = np.random.default_rng(args.seed)
     rows = []
-    print(f"{'speed m/s':>9} {'a ball pocketed':>15} {'cue ball pocketed':>17}")
+    print(f"{'speed m/s':>9} {'a ball pocketed':>15} {'balls per break':>15} {'cue ball pocketed':>17}")
     for speed in (float(v) for v in args.speeds.split(",")):
-        potted = scratched = 0
+        potted = balls = scratched = 0
         for _ in range(args.breaks):
             result = sim.simulate(rack, Shot(angle=aim + rng.normal(0.0, args.angle_sigma), speed=speed))
-            potted += any(i != rack.cue_index for i in result.pocketed)
+            dropped = sum(i != rack.cue_index for i in result.pocketed)
+            potted += dropped > 0
+            balls += dropped
             scratched += bool(result.cue_pocketed)
-        rows.append({"speed_mps": speed, "potted": potted / args.breaks, "cue_pocketed": scratched / args.breaks})
-        print(f"{speed:9.1f} {potted / args.breaks:15.1%} {scratched / args.breaks:17.1%}")
+        row = {"speed_mps": speed, "potted": potted / args.breaks, "balls_per_break": balls / args.breaks}
+        rows.append({**row, "cue_pocketed": scratched / args.breaks})
+        print(f"{speed:9.1f} {potted / args.breaks:15.1%} {balls / args.breaks:15.2f} {scratched / args.breaks:17.1%}")
     if args.json:
         with open(args.json, "w") as fh:
             json.dump({"breaks": args.breaks, "angle_sigma": args.angle_sigma, "seed": args.seed, "rows": rows}, fh)

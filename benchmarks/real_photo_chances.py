@@ -38,13 +38,14 @@ def photos(data: Path) -> dict[str, list[Path]]:
 
 
 def read(path: Path) -> dict | None:
-    """One photo's shown chance, exact-position chance, fit error and ball errors; None without a shot."""
+    """One photo's shown chance, exact-position chance, fit error and ball errors; None without a shot or for a break
+    (its chance is measured on the rack made tight, not over the balls' position errors)."""
     try:
         doc = suggest(path, rng=np.random.default_rng(0)).to_dict()
     except ValueError:
         return None
     s = doc["suggestion"]
-    if s.get("success_chance") is None:
+    if s.get("success_chance") is None or s.get("kind") == "break":
         return None
     return {
         "image": path.name,

@@ -6,8 +6,15 @@ import math
 import numpy as np
 import pytest
 
-from pix2pockets.pipeline.break_shot import OPEN_TABLE, behind_break_line, break_advice, break_spot, racked_balls
-from pix2pockets.pipeline.planning import place_in_hand, plan_shot
+from pix2pockets.pipeline.break_shot import (
+    OPEN_TABLE,
+    behind_break_line,
+    break_advice,
+    break_spot,
+    racked_balls,
+    tight_rack,
+)
+from pix2pockets.pipeline.planning import break_chance, default_planner, place_in_hand, plan_shot
 from pix2pockets.pipeline.result import MAX_SPEED, LocatedBall
 from pix2pockets.rules import InHand
 from pix2pockets.state import TableLayout, eight_ball_rack, random_layout
@@ -42,6 +49,39 @@ def test_the_break_sends_the_cue_ball_full_at_the_nearest_racked_ball_at_full_po
     gap = np.linalg.norm(advice.ghost - head)  # the cue ball's centre at contact
     assert math.isclose(gap, rack.spec.ball_radius + rack.spec.cue_radius)
     assert advice.success_probability is None and advice.chance is None and advice.group == OPEN_TABLE
+
+
+def spread_rack(scale: float, seed: int = 0, jitter: float = 0.001) -> TableLayout:
+    """The standard rack spread about its middle by ``scale`` and jittered by up to ``jitter`` [m] per axis: a rack
+    as a photo locates it, its balls a few millimetres apart."""
+    rack = eight_ball_rack(rng=np.random.default_rng(seed))
+    middle = rack.positions[1:].mean(axis=0)
+    spread = rack.positions.copy()
+    spread[1:] = middle + scale * (spread[1:] - middle)
+    spread[1:] += np.random.default_rng(seed + 1).uniform(-jitter, jitter, spread[1:].shape)
+    return TableLayout(rack.balls, spread, rack.spec)
+
+
+@pytest.mark.parametrize("scale", [1.05, 1.12])
+def test_a_located_rack_is_made_tight_where_it_lies(scale):
+    exact = eight_ball_rack(rng=np.random.default_rng(0))
+    tight = tight_rack(spread_rack(scale))
+    assert np.abs(tight.positions - exact.positions).max() < 2e-3  # every ball back on its spot, the apex too
+    turned = TableLayout(exact.balls, exact.positions * [-1, 1] + [exact.spec.length, 0], exact.spec)
+    assert np.allclose(tight_rack(turned).positions, turned.positions)  # the apex toward the other end
+    assert tight_rack(random_layout(np.random.default_rng(3), list(range(16)))) is None
+
+
+def test_the_break_has_a_chance_measured_on_the_tight_rack():
+    """Struck at full power, most breaks pot a ball; the chance is the same however loosely the photo placed the
+    balls, since it is measured on the rack made tight."""
+    planner = default_planner()
+    loose, tighter = break_chance(planner, spread_rack(1.12), 120), break_chance(planner, spread_rack(1.05), 120)
+    assert 0.3 < loose.p < 0.95 and loose.samples == 120 and loose.noise == "pro"
+    assert abs(loose.p - tighter.p) <= 0.1
+    advice = plan_shot(spread_rack(1.12), "auto", planner, chance_samples=120)
+    assert advice.kind == "break" and advice.success_probability == pytest.approx(advice.chance.p)
+    assert break_chance(NearestPocketPlanner(), spread_rack(1.12)) is None  # no simulator, no chance
 
 
 def test_plan_shot_on_a_rack_gives_the_break_whatever_the_group():

@@ -7,10 +7,11 @@ of a 15-ball triangle lie 2.31 diameters from its centre, balls spread after a b
 :func:`break_advice` gives the break: the cue ball sent full at the rack's nearest ball at full power. With ball in
 hand, :func:`break_spot` says where the cue ball is put for it.
 
-No chance comes with it. The event physics treats a rack of touching balls as a sequence of two-ball collisions,
-which passes a break's force through the rack unlike real balls (on the standard rack, struck full from the head
-spot, it pots a ball in 65 % of breaks at 6 m/s and 7 % at 8 m/s: ``benchmarks/rack_break.py``), so a measured chance
-would mislead.
+Its chance is measured on the rack as it is racked, not as it is located: a photo places each ball a few millimetres
+off, and balls a few millimetres apart take a break's force one after another instead of together
+(:mod:`pix2pockets.physics.event._impact`). :func:`tight_rack` moves the racked balls onto a tight triangle where the
+photo shows the rack; the break's chance is then the share of executions that pocket an object ball and keep the cue
+ball on the table (:func:`pix2pockets.pipeline.planning.break_chance`).
 
 Example:
     >>> from pix2pockets.state import eight_ball_rack
@@ -26,10 +27,11 @@ from __future__ import annotations
 import math
 
 import numpy as np
+from scipy.optimize import linear_sum_assignment
 
 from pix2pockets.pipeline.result import MAX_SPEED, ShotAdvice
 from pix2pockets.rules import InHand
-from pix2pockets.state import BallClass, Shot, TableLayout
+from pix2pockets.state import BallClass, Shot, TableLayout, rack_positions
 
 RACKED_BALLS = 12
 """Object balls that must lie together for a rack (a ball or three may sit apart or be missed in the photo)."""
@@ -54,7 +56,7 @@ def racked_balls(layout: TableLayout) -> np.ndarray:
 
 def break_advice(layout: TableLayout) -> ShotAdvice:
     """The break on a racked ``layout``: the cue ball full at the racked ball nearest to it, at full power
-    (:data:`~pix2pockets.pipeline.result.MAX_SPEED`), centre ball; no chance (see the module).
+    (:data:`~pix2pockets.pipeline.result.MAX_SPEED`), centre ball; its chance is measured apart (see the module).
 
     Raises:
         ValueError: no cue ball, or the balls are not racked.
@@ -83,6 +85,47 @@ def break_advice(layout: TableLayout) -> ShotAdvice:
         ghost=contact,
         stroke=Shot(angle=angle, speed=MAX_SPEED),
     )
+
+
+def tight_rack(layout: TableLayout, fits: int = 3) -> TableLayout | None:
+    """``layout`` with its racked balls moved onto a tight 15-ball triangle (:func:`~pix2pockets.state.rack_positions`,
+    apex toward the other end of the table) where they lie.
+
+    The object balls near the rack (within :data:`RACK_REACH` plus one diameter of its middle, so a ball the photo
+    puts a little off the triangle still counts) go each to its own spot (least total distance); those within a
+    diameter of their spot are moved onto it, and the triangle is shifted onto their mean place, ``fits`` times.
+    None when the balls are not racked, or when the triangle would leave the table or touch a ball left where it is.
+    """
+    rack = racked_balls(layout)
+    if not len(rack):
+        return None
+    spec = layout.spec
+    diameter = 2 * spec.ball_radius
+    middle = np.median(layout.positions[rack], axis=0)
+    objects = np.array([i for i, b in enumerate(layout.balls) if b.ball_class is not BallClass.CUE], dtype=int)
+    near = objects[np.linalg.norm(layout.positions[objects] - middle, axis=1) <= (RACK_REACH + 1) * diameter]
+    located = layout.positions[near]
+    spots = rack_positions(spec)
+    if float(middle[0]) < spec.length / 2:  # racked at the other end: apex toward x = length
+        spots = np.column_stack([spec.length - spots[:, 0], spots[:, 1]])
+    spots = spots + (middle - np.median(spots, axis=0))
+    for _ in range(fits):
+        rows, cols = linear_sum_assignment(np.linalg.norm(located[:, None, :] - spots[None, :, :], axis=2))
+        keep = np.linalg.norm(located[rows] - spots[cols], axis=1) <= diameter
+        rows, cols = rows[keep], cols[keep]
+        spots = spots + (located[rows] - spots[cols]).mean(axis=0)
+    placed = spots[cols]
+    if not spec.contains(placed, margin=spec.ball_radius).all():
+        return None
+    moved = near[rows]
+    others = np.setdiff1d(np.arange(len(layout)), moved)
+    radii = layout.radii
+    gaps = np.linalg.norm(placed[:, None, :] - layout.positions[others][None, :, :], axis=2)
+    if np.any(gaps < radii[moved][:, None] + radii[others][None, :]):
+        return None
+    positions = layout.positions.copy()
+    positions[moved] = placed
+    return TableLayout(layout.balls, positions, spec)
 
 
 def _break_line(layout: TableLayout, area: InHand) -> tuple[float, bool]:

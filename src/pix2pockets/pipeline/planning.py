@@ -20,7 +20,7 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
-from pix2pockets.pipeline.break_shot import break_advice, break_spot, racked_balls
+from pix2pockets.pipeline.break_shot import break_advice, break_spot, racked_balls, tight_rack
 from pix2pockets.pipeline.result import ShotAdvice
 from pix2pockets.pipeline.unseen_pockets import pocket_hit_share
 from pix2pockets.planner.ball_in_hand import best_placement
@@ -89,6 +89,27 @@ def _search_planner(planner: Any) -> Any | None:
         if planner is None:
             return None
     return None
+
+
+def break_chance(planner: Any, layout: TableLayout, samples: int = CHANCE_SAMPLES, seed: int = 0) -> Chance | None:
+    """The chance of the break on a racked ``layout``: of ``samples`` executions under the planner's noise, on the rack
+    made tight (:func:`~pix2pockets.pipeline.break_shot.tight_rack`) and struck as :func:`break_advice` strikes it,
+    the share that pocket an object ball and keep the cue ball on the table. None for planners without a simulator,
+    or a rack that cannot be made tight where it lies.
+    """
+    search = _search_planner(planner)
+    tight = tight_rack(layout)
+    if search is None or tight is None or samples < 1:
+        return None
+    stroke = break_advice(tight).stroke
+    rng = np.random.default_rng([seed, 11])
+    z = rng.standard_normal((samples, 5))
+    shots = [search.noise.apply(stroke, z[k]) for k in range(samples)]
+    rows = np.array([(s.angle, s.speed, s.side, s.height, s.elevation) for s in shots])
+    _, pocket, _ = search._run(tight, rows)
+    objects = np.array([b.ball_class is not BallClass.CUE for b in tight.balls])
+    made = (pocket[:, objects] >= 0).any(axis=1) & (pocket[:, tight.cue_index] < 0)
+    return Chance(int(made.sum()), samples, search.noise.name)
 
 
 def shot_chance(
@@ -296,7 +317,8 @@ def plan_shot(
     the share of those errors their pocket still takes, and the chosen direct or bank shot's chance is measured with its
     pocket's error.
 
-    A racked table gets the break (:mod:`pix2pockets.pipeline.break_shot`, no chance), whatever the group.
+    A racked table gets the break (:mod:`pix2pockets.pipeline.break_shot`, its chance from :func:`break_chance`),
+    whatever the group.
 
     Raises:
         ValueError: no cue ball, or no ball of the group (and no 8-ball) on the table.
@@ -304,7 +326,9 @@ def plan_shot(
     if layout.cue_index is None:
         raise ValueError("no cue ball found on the table")
     if len(racked_balls(layout)):
-        return break_advice(layout)
+        advice = break_advice(layout)
+        chance = break_chance(planner, layout, chance_samples)
+        return advice if chance is None else replace(advice, success_probability=chance.p, chance=chance)
     spec = layout.spec
     sigmas = np.zeros(len(spec.pockets)) if pocket_sigma is None else np.asarray(pocket_sigma, dtype=float)
 

@@ -178,7 +178,9 @@ class ShotAdvice:
         ball = balls[self.target_ball]
         x, y = ball.table_xy_m
         if self.kind == "break":
-            return f"Break: the cue ball full into the {ball.name} at ({x:.2f}, {y:.2f}) m, power {self.power_level}/30"
+            potted = chance.replace(" chance", " chance to pot a ball and not the cue ball", 1)
+            where = f"({x:.2f}, {y:.2f}) m"
+            return f"Break: the cue ball full into the {ball.name} at {where}, power {self.power_level}/30{potted}"
         return (
             f"{ball.name} at ({x:.2f}, {y:.2f}) m -> {self.pocket} pocket, {self.kind}, "
             f"power {self.power_level}/30{chance} ({self.group})"

@@ -14,6 +14,7 @@ from numba import njit
 
 from pix2pockets.physics.event._balls import radius_of
 from pix2pockets.physics.event._detect import ENV_LINE, ENV_NONE, ENV_POCKET, env_time, pair_time
+from pix2pockets.physics.event._impact import closing_speed, compliant_impact, contact_time, impact_group
 from pix2pockets.physics.event._motion import (
     COLLIDE_LOCK,
     COLLIDE_NUDGE,
@@ -33,6 +34,7 @@ from pix2pockets.physics.event._motion import (
     strike,
     transition,
 )
+from pix2pockets.physics.event.params import P_V_SETTLE
 
 # Event codes (mapped to EventType by the Python wrapper).
 EV_STRIKE, EV_BALL, EV_CUSHION, EV_JAW, EV_POCKET = 0, 1, 2, 3, 4
@@ -163,15 +165,26 @@ def run_shot(
 
         c1 = bi
         c2 = _NO_BALL
-        locked = False
+        grouped = False  # the event changed the motion of every ball ``member`` marks
         if kind == 0:
             c2 = bj
-            outcome = collide_balls(bi, bj, pos, vel, w, prm)
-            if outcome == COLLIDE_NUDGE and not nudge_apart(bi, bj, n, pos, st, prm, size[0], size[1]):
-                outcome = COLLIDE_LOCK
-            if outcome == COLLIDE_LOCK:
-                locked = True
-                lock_cluster(bi, bj, n, pos, vel, w, st, prm, member)
+            closing = closing_speed(bi, bj, pos, vel)
+            group = 2
+            reach = 0.0
+            if closing >= prm[P_V_SETTLE]:
+                reach = closing * contact_time(bi, bj, closing, prm)
+                group = impact_group(bi, bj, n, pos, st, prm, reach, member)
+            if group > 2:  # balls touching either one share the impact
+                compliant_impact(bi, bj, n, pos, vel, prm, member, reach)
+                grouped = True
+            else:
+                outcome = collide_balls(bi, bj, pos, vel, w, prm)
+                if outcome == COLLIDE_NUDGE and not nudge_apart(bi, bj, n, pos, st, prm, size[0], size[1]):
+                    outcome = COLLIDE_LOCK
+                if outcome == COLLIDE_LOCK:
+                    grouped = True
+                    lock_cluster(bi, bj, n, pos, vel, w, st, prm, member)
+            if grouped:
                 for k in range(n):
                     if member[k]:
                         set_motion(k, now, vel, w, st, acc, wacc, tend, prm)
@@ -225,7 +238,7 @@ def run_shot(
             break
         if stopped:
             break
-        if locked:
+        if grouped:
             for k in range(n):
                 if member[k]:
                     _refresh(k, n, now, pos, vel, acc, st, tend, prm, geo, ptime, et, ek, ei)
