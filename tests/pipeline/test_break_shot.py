@@ -8,9 +8,11 @@ import pytest
 
 from pix2pockets.pipeline.break_shot import (
     OPEN_TABLE,
+    RACKED_GAP,
     behind_break_line,
     break_advice,
     break_spot,
+    hand_racked,
     racked_balls,
     tight_rack,
 )
@@ -70,6 +72,18 @@ def test_a_located_rack_is_made_tight_where_it_lies(scale):
     turned = TableLayout(exact.balls, exact.positions * [-1, 1] + [exact.spec.length, 0], exact.spec)
     assert np.allclose(tight_rack(turned).positions, turned.positions)  # the apex toward the other end
     assert tight_rack(random_layout(np.random.default_rng(3), list(range(16)))) is None
+
+
+def test_a_hand_racked_triangle_leaves_tenths_of_a_millimetre_between_its_balls():
+    tight = eight_ball_rack(rng=np.random.default_rng(0))
+    one, same, other = (hand_racked(tight, np.random.default_rng(s)) for s in (5, 5, 6))
+    assert np.array_equal(one.positions, same.positions) and not np.array_equal(one.positions, other.positions)
+    pos, d = one.positions[1:], 2 * tight.spec.ball_radius
+    gaps = np.linalg.norm(pos[:, None] - pos[None], axis=2)[np.triu_indices(15, 1)] - d
+    neighbours = gaps[gaps < 0.5 * d]
+    assert len(neighbours) == 30 and neighbours.min() > 0  # the triangle's 30 contacts, none overlapping
+    assert np.mean(neighbours) == pytest.approx(RACKED_GAP, rel=0.3)
+    assert np.array_equal(one.positions[0], tight.positions[0])  # the cue ball stays
 
 
 def test_the_break_has_a_chance_measured_on_the_tight_rack():

@@ -10,8 +10,9 @@ hand, :func:`break_spot` says where the cue ball is put for it.
 Its chance is measured on the rack as it is racked, not as it is located: a photo places each ball a few millimetres
 off, and balls a few millimetres apart take a break's force one after another instead of together
 (:mod:`pix2pockets.physics.event._impact`). :func:`tight_rack` moves the racked balls onto a tight triangle where the
-photo shows the rack; the break's chance is then the share of executions that pocket an object ball and keep the cue
-ball on the table (:func:`pix2pockets.pipeline.planning.break_chance`).
+photo shows the rack, and :func:`hand_racked` leaves the tenths of a millimetre between them that a triangle racked by
+hand leaves; the break's chance is then the share of executions that pocket an object ball and keep the cue ball on
+the table (:func:`pix2pockets.pipeline.planning.break_chance`).
 
 Example:
     >>> from pix2pockets.state import eight_ball_rack
@@ -39,6 +40,11 @@ RACK_REACH = 2.8
 """Largest distance of a racked ball from the rack's middle [ball diameters] (2.31 in an exact triangle)."""
 OPEN_TABLE = "open"
 """The group of a break: the table is open."""
+RACKED_GAP = 0.2e-3
+"""Mean gap between neighbouring balls of a triangle racked by hand [m]: balls are made to 0.127 mm either side of
+their diameter (WPA equipment specifications), so a racked triangle's balls do not all touch."""
+RACKED_JITTER = 0.05e-3
+"""Spread of each racked ball about its place in a triangle racked by hand [m], per axis."""
 
 
 def racked_balls(layout: TableLayout) -> np.ndarray:
@@ -126,6 +132,27 @@ def tight_rack(layout: TableLayout, fits: int = 3) -> TableLayout | None:
     positions = layout.positions.copy()
     positions[moved] = placed
     return TableLayout(layout.balls, positions, spec)
+
+
+def hand_racked(tight: TableLayout, rng: np.random.Generator) -> TableLayout:
+    """A tight rack (:func:`tight_rack`) as a triangle racks it by hand: the racked balls spread about their middle
+    so that neighbours lie :data:`RACKED_GAP` apart on average, each moved by :data:`RACKED_JITTER` per axis (drawn
+    again until no two balls touch). A perfect triangle breaks the same way every time (one ball into one pocket);
+    these gaps make each break its own, as on a real table.
+    """
+    rack = racked_balls(tight)
+    diameter = 2 * tight.spec.ball_radius
+    middle = tight.positions[rack].mean(axis=0)
+    radii = tight.radii
+    others = tight.positions.copy()
+    while True:
+        positions = others.copy()
+        positions[rack] = middle + (tight.positions[rack] - middle) * (1 + RACKED_GAP / diameter)
+        positions[rack] += rng.normal(0.0, RACKED_JITTER, (len(rack), 2))
+        gaps = np.linalg.norm(positions[rack][:, None] - positions[None], axis=2) - radii[rack][:, None] - radii[None]
+        gaps[np.arange(len(rack)), rack] = np.inf
+        if gaps.min() > 0:
+            return TableLayout(tight.balls, positions, tight.spec)
 
 
 def _break_line(layout: TableLayout, area: InHand) -> tuple[float, bool]:

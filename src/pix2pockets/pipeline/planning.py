@@ -20,7 +20,8 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 
 from pix2pockets.geometry.table import TableSpec
-from pix2pockets.pipeline.break_shot import break_advice, break_spot, racked_balls, tight_rack
+from pix2pockets.physics.event.simulator import shots_to_array
+from pix2pockets.pipeline.break_shot import break_advice, break_spot, hand_racked, racked_balls, tight_rack
 from pix2pockets.pipeline.result import ShotAdvice
 from pix2pockets.pipeline.unseen_pockets import pocket_hit_share
 from pix2pockets.planner.ball_in_hand import best_placement
@@ -39,6 +40,8 @@ class ShotPlanner(Protocol):
 
 CHANCE_SAMPLES = 400
 """Sampled executions behind a shown chance (a 95% interval of about +-5 points at 50%)."""
+BREAK_RACKS = 20
+"""Triangles racked by hand behind a break's chance (the samples are split among them)."""
 RERANKED_CANDIDATES = 8
 """Candidates ranked again when a pocket's place is unsure: the search planner's strokes valued by noisy replays
 (``SearchConfig.max_verified``); those after them carry only their clean value."""
@@ -91,11 +94,14 @@ def _search_planner(planner: Any) -> Any | None:
     return None
 
 
-def break_chance(planner: Any, layout: TableLayout, samples: int = CHANCE_SAMPLES, seed: int = 0) -> Chance | None:
-    """The chance of the break on a racked ``layout``: of ``samples`` executions under the planner's noise, on the rack
-    made tight (:func:`~pix2pockets.pipeline.break_shot.tight_rack`) and struck as :func:`break_advice` strikes it,
-    the share that pocket an object ball and keep the cue ball on the table. None for planners without a simulator,
-    or a rack that cannot be made tight where it lies.
+def break_chance(
+    planner: Any, layout: TableLayout, samples: int = CHANCE_SAMPLES, seed: int = 0, racks: int = BREAK_RACKS
+) -> Chance | None:
+    """The chance of the break on a racked ``layout``: of ``samples`` executions under the planner's noise, each on
+    one of ``racks`` triangles racked by hand where the photo shows the rack
+    (:func:`~pix2pockets.pipeline.break_shot.tight_rack`, :func:`~pix2pockets.pipeline.break_shot.hand_racked`) and
+    struck as :func:`break_advice` strikes it, the share that pocket an object ball and keep the cue ball on the
+    table. None for planners without a simulator, or a rack that cannot be made tight where it lies.
     """
     search = _search_planner(planner)
     tight = tight_rack(layout)
@@ -104,12 +110,14 @@ def break_chance(planner: Any, layout: TableLayout, samples: int = CHANCE_SAMPLE
     stroke = break_advice(tight).stroke
     rng = np.random.default_rng([seed, 11])
     z = rng.standard_normal((samples, 5))
-    shots = [search.noise.apply(stroke, z[k]) for k in range(samples)]
-    rows = np.array([(s.angle, s.speed, s.side, s.height, s.elevation) for s in shots])
-    _, pocket, _ = search._run(tight, rows)
     objects = np.array([b.ball_class is not BallClass.CUE for b in tight.balls])
-    made = (pocket[:, objects] >= 0).any(axis=1) & (pocket[:, tight.cue_index] < 0)
-    return Chance(int(made.sum()), samples, search.noise.name)
+    made = 0
+    for draws in np.array_split(np.arange(samples), max(1, min(racks, samples))):
+        racked = hand_racked(tight, rng)
+        rows = shots_to_array([search.noise.apply(stroke, z[k]) for k in draws])
+        _, pocket, _ = search._run(racked, rows)
+        made += int(np.count_nonzero((pocket[:, objects] >= 0).any(axis=1) & (pocket[:, racked.cue_index] < 0)))
+    return Chance(made, samples, search.noise.name)
 
 
 def shot_chance(
