@@ -56,6 +56,20 @@ def test_a_ball_struck_into_a_pair_side_by_side_splits_it_symmetrically():
     assert vel[2, 1] > 0.0 and vel[2, 0] > 0.0  # each leaves along its line of centres with ball 1
 
 
+def test_a_lighter_cue_ball_into_frozen_balls_keeps_momentum_and_bounces_back():
+    """The UK set's 94 g cue ball into two frozen 116 g object balls: momentum kept with the balls' own masses."""
+    uk = table_preset("uk7")
+    rc, ro, mc = uk.cue_radius, uk.ball_radius, uk.cue_mass / uk.ball_mass
+    prm = PhysicsParams().packed_balls(ro, uk.cushion_height, [rc, ro, ro], [mc, 1.0, 1.0])
+    pos = np.array([[0.0, 0.0], [rc + ro, 0.0], [rc + 3 * ro, 0.0]])
+    vel = np.array([[2.0, 0.0], [0.0, 0.0], [0.0, 0.0]])
+    compliant_impact(0, 1, 3, pos, vel, prm, np.ones(3, dtype=np.bool_), 1e-3)
+    masses = np.array([mc, 1.0, 1.0])
+    assert (masses[:, None] * vel).sum(axis=0) == pytest.approx([2.0 * mc, 0.0], abs=1e-12)
+    assert vel[0, 0] < 0.0 < vel[2, 0]  # the light cue ball comes back, the far ball goes on
+    assert float((masses * (vel**2).sum(axis=1)).sum()) < 4.0 * mc
+
+
 def test_the_group_holds_the_balls_within_reach_of_the_pair_only():
     pos = np.vstack([in_line(3), [[10 * R, 0.0]]])
     pos[2, 0] += 0.5e-3  # half a millimetre beyond touching
