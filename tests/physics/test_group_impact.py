@@ -75,11 +75,11 @@ def test_the_group_holds_the_balls_within_reach_of_the_pair_only():
     pos[2, 0] += 0.5e-3  # half a millimetre beyond touching
     st = np.full(4, ST_STATIONARY)
     member = np.zeros(4, dtype=np.bool_)
-    assert impact_group(0, 1, 4, pos, st, PRM, 1e-3, member) == 3
+    assert impact_group(0, 1, 4, pos, np.zeros((4, 2)), st, PRM, 1e-3, member) == 3
     assert member.tolist() == [True, True, True, False]
-    assert impact_group(0, 1, 4, pos, st, PRM, 0.2e-3, member) == 2
+    assert impact_group(0, 1, 4, pos, np.zeros((4, 2)), st, PRM, 0.2e-3, member) == 2
     st[2] = ST_POCKETED
-    assert impact_group(0, 1, 4, pos, st, PRM, 1e-3, member) == 2
+    assert impact_group(0, 1, 4, pos, np.zeros((4, 2)), st, PRM, 1e-3, member) == 2
 
 
 def test_contact_time_follows_hertz():

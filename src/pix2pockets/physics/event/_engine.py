@@ -173,7 +173,7 @@ def run_shot(
             reach = 0.0
             if closing >= prm[P_V_SETTLE]:
                 reach = closing * contact_time(bi, bj, closing, prm)
-                group = impact_group(bi, bj, n, pos, st, prm, reach, member)
+                group = impact_group(bi, bj, n, pos, vel, st, prm, reach, member)
             if group > 2:  # balls touching either one share the impact
                 compliant_impact(bi, bj, n, pos, vel, prm, member, reach)
                 grouped = True

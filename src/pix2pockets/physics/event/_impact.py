@@ -29,7 +29,7 @@ import numpy as np
 from numba import njit
 
 from pix2pockets.physics.event._balls import mass_of, radius_of
-from pix2pockets.physics.event._motion import ST_POCKETED
+from pix2pockets.physics.event._motion import mark_group
 from pix2pockets.physics.event.params import P_E_BALL
 
 BALL_YOUNG_MODULUS = 5.84e9
@@ -68,26 +68,10 @@ def closing_speed(i, j, pos, vel) -> float:
 
 
 @njit(cache=True)
-def impact_group(i, j, n, pos, st, prm, reach, member) -> int:
-    """Mark in ``member`` (bool, (n,)) the balls linked to the pair ``i``, ``j`` through gaps under ``reach`` [m];
-    returns how many."""
-    for k in range(n):
-        member[k] = False
-    member[i] = True
-    member[j] = True
-    stack = [i, j]
-    count = 2
-    while len(stack) > 0:
-        a = stack.pop()
-        for b in range(n):
-            if member[b] or st[b] == ST_POCKETED:
-                continue
-            gap = math.hypot(pos[b, 0] - pos[a, 0], pos[b, 1] - pos[a, 1]) - radius_of(prm, a) - radius_of(prm, b)
-            if gap < reach:
-                member[b] = True
-                stack.append(b)
-                count += 1
-    return count
+def impact_group(i, j, n, pos, vel, st, prm, reach, member) -> int:
+    """Mark in ``member`` (bool, (n,)) the balls linked to the pair ``i``, ``j`` through gaps of at most ``reach``
+    [m], whatever their speed; returns how many."""
+    return mark_group(i, j, n, pos, vel, st, prm, reach, math.inf, member)
 
 
 @njit(cache=True)

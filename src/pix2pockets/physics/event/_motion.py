@@ -284,18 +284,10 @@ def _outside(x, y, R, length, width) -> float:
 
 
 @njit(cache=True)
-def lock_cluster(i, j, n, pos, vel, w, st, prm, member) -> int:
-    """Make the touching, nearly co-moving balls around pair (i, j) move as one.
-
-    Collects every ball connected to ``i`` or ``j`` through contacts (gap below ``NUDGE_GAP``) whose
-    velocity differs from the pair's by less than the settle speed, and gives them all their mean
-    velocity (weighted by mass) and spin (weighted by moment of inertia). Momentum is conserved and kinetic
-    energy can only drop; afterwards the members share one trajectory, so no further events occur between them.
-
-    Returns:
-        the number of members; ``member`` (bool, shape (n,)) marks them.
-    """
-    settle = prm[P_V_SETTLE]
+def mark_group(i, j, n, pos, vel, st, prm, max_gap, max_speed_apart, member) -> int:
+    """Mark in ``member`` (bool, (n,)) the balls linked to the pair ``i``, ``j`` through gaps of at most ``max_gap``
+    [m] whose velocity differs from the pair's mean by less than ``max_speed_apart`` [m/s] (``inf``: any); returns
+    how many (pocketed balls never count)."""
     for k in range(n):
         member[k] = False
     ref_x = 0.5 * (vel[i, 0] + vel[j, 0])
@@ -310,13 +302,29 @@ def lock_cluster(i, j, n, pos, vel, w, st, prm, member) -> int:
             if member[b] or st[b] == ST_POCKETED:
                 continue
             touch = radius_of(prm, a) + radius_of(prm, b)
-            if math.hypot(pos[b, 0] - pos[a, 0], pos[b, 1] - pos[a, 1]) - touch > NUDGE_GAP:
+            if math.hypot(pos[b, 0] - pos[a, 0], pos[b, 1] - pos[a, 1]) - touch > max_gap:
                 continue
-            if math.hypot(vel[b, 0] - ref_x, vel[b, 1] - ref_y) >= settle:
+            if math.hypot(vel[b, 0] - ref_x, vel[b, 1] - ref_y) >= max_speed_apart:
                 continue
             member[b] = True
             stack.append(b)
             count += 1
+    return count
+
+
+@njit(cache=True)
+def lock_cluster(i, j, n, pos, vel, w, st, prm, member) -> int:
+    """Make the touching, nearly co-moving balls around pair (i, j) move as one.
+
+    Collects every ball connected to ``i`` or ``j`` through contacts (gap below ``NUDGE_GAP``) whose
+    velocity differs from the pair's by less than the settle speed, and gives them all their mean
+    velocity (weighted by mass) and spin (weighted by moment of inertia). Momentum is conserved and kinetic
+    energy can only drop; afterwards the members share one trajectory, so no further events occur between them.
+
+    Returns:
+        the number of members; ``member`` (bool, shape (n,)) marks them.
+    """
+    count = mark_group(i, j, n, pos, vel, st, prm, NUDGE_GAP, prm[P_V_SETTLE], member)
     sv0 = sv1 = sw0 = sw1 = sw2 = sm = si = 0.0
     for k in range(n):
         if member[k]:
