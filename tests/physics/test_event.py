@@ -17,7 +17,7 @@ from pix2pockets.physics.event._motion import (
     kinetic_energy,
 )
 from pix2pockets.physics.event._roots import first_drop
-from pix2pockets.state import EventType, Shot, eight_ball_rack, random_layout
+from pix2pockets.state import Ball, EventType, Shot, TableLayout, eight_ball_rack, random_layout
 
 from .conftest import SPEC, R, layout_of, straight_in_layout
 
@@ -295,3 +295,33 @@ def test_stale_kernel_cache_is_dropped(tmp_path):
     stale.write_text("x")
     cache_mod._drop_stale(tmp_path)  # stamp matches now: kept
     assert stale.exists()
+
+
+def _two_balls() -> TableLayout:
+    balls = (Ball.numbered(0), Ball.numbered(1))
+    return TableLayout(balls, np.array([[0.6, 0.635], [1.2, 0.635]]), SPEC)
+
+
+@pytest.mark.parametrize(("height", "comes_back"), [(-0.5, True), (0.5, False)])
+def test_ball_path_runs_from_start_through_the_impact_to_rest(height, comes_back):
+    sim = EventSimulator()
+    layout = _two_balls()
+    shot = Shot(angle=0.0, speed=2.0, height=height)
+    path = sim.ball_path(layout, shot, 0)
+    result = sim.simulate(layout, shot)
+    assert np.allclose(path[0], layout.positions[0])
+    assert np.allclose(path[-1], result.final.positions[result.final_ids.index(0)])
+    after = sim.ball_path(layout, shot, 0, from_first_contact=True)
+    contact = layout.positions[1] - [2 * SPEC.ball_radius, 0.0]
+    assert np.allclose(after[0], contact, atol=1e-6)  # where it meets the object ball
+    assert (after[-1, 0] < contact[0]) == comes_back  # draw comes back, follow goes through
+    assert np.all(np.abs(path[:, 1] - 0.635) < 1e-9)  # a full hit stays on the line of centres
+
+
+def test_ball_path_of_a_ball_never_met_is_its_spot_and_from_contact_empty():
+    sim = EventSimulator()
+    balls = (Ball.numbered(0), Ball.numbered(1), Ball.numbered(2))
+    layout = TableLayout(balls, np.array([[0.6, 0.635], [1.2, 0.635], [1.2, 1.1]]), SPEC)
+    shot = Shot(angle=0.0, speed=1.0)
+    assert np.allclose(sim.ball_path(layout, shot, 2), [[1.2, 1.1]])
+    assert sim.ball_path(layout, shot, 2, from_first_contact=True).shape == (0, 2)

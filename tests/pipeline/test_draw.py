@@ -8,7 +8,17 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from pix2pockets.pipeline.draw import CLOTH, CLOTH_NAMES, CLOTH_RGB, UNSURE, UNSURE_SIGMA, draw_diagram, photo_cloth
+from pix2pockets.pipeline.draw import (
+    CLOTH,
+    CLOTH_NAMES,
+    CLOTH_RGB,
+    CUE_AFTER,
+    SCRATCH,
+    UNSURE,
+    UNSURE_SIGMA,
+    draw_diagram,
+    photo_cloth,
+)
 from pix2pockets.pipeline.photo import suggest
 from pix2pockets.testing import SPEC, LabelDetector, NearestPocketPlanner, blank_image, camera, example_layout
 
@@ -65,3 +75,21 @@ def test_the_rails_carry_sights_only_where_the_table_was_fitted_to_some():
     assert spots.sum() >= 18 * 4
     h, w = spots.shape
     assert not spots[int(0.15 * h) : int(0.85 * h), int(0.1 * w) : int(0.9 * w)].any()  # none on the cloth
+
+
+def test_the_cue_balls_way_after_the_first_ball_is_drawn_to_where_it_stops():
+    res = located(camera("top"))
+    path = np.array([[1.0, 0.5], [1.3, 0.7], [1.6, 0.9]])
+    with_path = replace(res, shot=replace(res.shot, cue_after=path))
+    plain, drawn = draw_diagram(res, HEIGHT), draw_diagram(with_path, HEIGHT)
+
+    def coloured(img, colour):
+        return np.all(np.abs(img.astype(int) - colour) <= 30, axis=-1)
+
+    changed = np.any(plain != drawn, axis=-1)
+    assert (changed & coloured(drawn, CUE_AFTER)).sum() > 40  # the dashes and the ring where it stops
+    assert not coloured(drawn, SCRATCH).any()
+    scratched = draw_diagram(replace(with_path, shot=replace(with_path.shot, cue_pocketed=True)), HEIGHT)
+    ring = np.any(scratched != drawn, axis=-1)  # only the ring where it stops changes ...
+    redder = (scratched[ring].astype(int) - drawn[ring].astype(int)) @ np.array([1, -1, 0])
+    assert ring.sum() > 20 and np.mean(redder) > 50  # ... to red: the cue ball drops there

@@ -117,3 +117,18 @@ def test_a_shot_to_an_unsure_pocket_is_measured_with_its_error(layout):
     assert unsure.success_probability < sure.success_probability - 0.2
     assert unsure.chance_exact_positions.pocket_sigma == 0.0
     assert unsure.to_dict()["success_chance"]["pocket_sigma_m"] == 0.15
+
+
+def test_the_advice_shows_where_the_cue_ball_goes_after_the_first_ball(layout):
+    planner = default_planner()
+    advice = plan_shot(layout, "solids", planner, np.random.default_rng(0), chance_samples=40)
+    path = advice.cue_after
+    assert path is not None and len(path) >= 2
+    assert np.linalg.norm(path[0] - advice.ghost) < 0.02  # it meets the target where the ghost ball lies
+    result = planner.simulator.simulate(layout, advice.stroke)
+    assert advice.cue_pocketed == result.cue_pocketed
+    if not result.cue_pocketed:
+        assert np.allclose(path[-1], result.final.positions[result.final_ids.index(layout.cue_index)])
+    d = json.loads(json.dumps(advice.to_dict()))["cue_ball_after"]
+    assert np.allclose(d["path_m"], np.round(path, 4)) and d["pocketed"] == advice.cue_pocketed
+    assert plan_shot(layout, "solids", NearestPocketPlanner()).cue_after is None  # no simulator, no path

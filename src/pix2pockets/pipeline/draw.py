@@ -22,6 +22,10 @@ from pix2pockets.vision.table.quad_geometry import quad_mask
 CUE_PATH = (255, 255, 255)
 OBJECT_PATH = (255, 210, 0)
 GHOST = (255, 255, 255)
+CUE_AFTER = (190, 225, 255)
+"""Where the cue ball goes after the first ball (dashed), and where it stops (a ring)."""
+SCRATCH = (255, 70, 70)
+"""The ring where a planned stroke drops the cue ball."""
 TABLE_LINE = (120, 255, 120)
 IN_HAND = (40, 200, 255)
 """Ring round a cue ball put by ball in hand (photo and diagram)."""
@@ -98,6 +102,19 @@ def _arrow_head(img: np.ndarray, poly: np.ndarray, colour: tuple, size: int) -> 
         cv2.line(img, tuple(int(v) for v in end), tuple(int(v) for v in tip), colour, 2, cv2.LINE_AA)
 
 
+def _dashed(img: np.ndarray, poly: np.ndarray, colour: tuple, thick: int, dash: int) -> None:
+    """A polyline (int32 (k, 1, 2)) drawn as dashes ``dash`` [px] long with gaps as long."""
+    cv2 = _cv2()
+    pts = poly.reshape(-1, 2).astype(float)
+    if len(pts) < 2:
+        return
+    along = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(pts, axis=0), axis=1))])
+    for start in np.arange(0.0, along[-1], 2 * dash):
+        stops = np.linspace(start, min(start + dash, along[-1]), 6)
+        piece = np.column_stack([np.interp(stops, along, pts[:, 0]), np.interp(stops, along, pts[:, 1])])
+        cv2.polylines(img, [np.round(piece).astype(np.int32).reshape(-1, 1, 2)], False, colour, thick, cv2.LINE_AA)
+
+
 def _ball_face(ball: LocatedBall) -> tuple[tuple[int, int, int], bool]:
     """Diagram colour (RGB) of a ball and whether it is drawn as a stripe: its own colour when its number is
     read with some certainty (a stripe's band), else a colour for its class."""
@@ -164,6 +181,10 @@ def draw_photo(rgb: np.ndarray, result: Suggestion) -> np.ndarray:
     if len(obj_poly):
         cv2.polylines(img, [obj_poly], False, OBJECT_PATH, thick, cv2.LINE_AA)
         _arrow_head(img, obj_poly, OBJECT_PATH, 6 * thick)
+    if shot.cue_after is not None and len(shot.cue_after) >= 2:
+        _dashed(img, _project_path(cam, shot.cue_after, R), CUE_AFTER, thick, 4 * thick)
+        end = _sphere_outline(cam, shot.cue_after[-1], R)
+        cv2.polylines(img, [end], True, SCRATCH if shot.cue_pocketed else CUE_AFTER, thick, cv2.LINE_AA)
     if shot.ghost is not None:
         cv2.polylines(img, [_sphere_outline(cam, shot.ghost, R)], True, GHOST, thick, cv2.LINE_AA)
     if shot.target_ball is not None:
@@ -222,6 +243,11 @@ def draw_diagram(result: Suggestion, height: int, cloth: tuple[int, int, int] = 
             poly = np.round(raster.table_to_pixels(path)).astype(np.int32).reshape(-1, 1, 2)
             cv2.polylines(img, [poly], False, colour, thick, cv2.LINE_AA)
             _arrow_head(img, poly, colour, 3 * r)
+    if shot.cue_after is not None and len(shot.cue_after) >= 2:
+        poly = np.round(raster.table_to_pixels(shot.cue_after)).astype(np.int32).reshape(-1, 1, 2)
+        _dashed(img, poly, CUE_AFTER, thick, 2 * r)
+        end = tuple(int(v) for v in poly[-1, 0])
+        cv2.circle(img, end, r, SCRATCH if shot.cue_pocketed else CUE_AFTER, thick, cv2.LINE_AA)
     centres = [tuple(round(v) for v in raster.table_to_pixels(xy)) for xy in result.layout.positions]
     for ball, c in zip(result.balls, centres, strict=True):  # rings first: the balls are drawn over them
         if ball.position_sigma_m is not None and ball.position_sigma_m >= UNSURE_SIGMA:

@@ -325,12 +325,29 @@ def plan_shot(
     the share of those errors their pocket still takes, and the chosen direct or bank shot's chance is measured with its
     pocket's error.
 
-    A racked table gets the break (:mod:`pix2pockets.pipeline.break_shot`, its chance from :func:`break_chance`),
-    whatever the group.
+    The advice carries where the cue ball goes after the first ball, played exactly as planned
+    (:func:`with_cue_after`; not for a break, which scatters each rack its own way). A racked table gets the break
+    (:mod:`pix2pockets.pipeline.break_shot`, its chance from :func:`break_chance`), whatever the group.
 
     Raises:
         ValueError: no cue ball, or no ball of the group (and no 8-ball) on the table.
     """
+    advice = _plan(layout, group, planner, rng, chance_samples, position_sigma, pocket_sigma)
+    if advice.kind == "break":  # no one way: a break scatters the rack differently each time it is racked
+        return advice
+    return with_cue_after(advice, planner, layout)
+
+
+def _plan(
+    layout: TableLayout,
+    group: str | Group,
+    planner: ShotPlanner,
+    rng: np.random.Generator | None,
+    chance_samples: int,
+    position_sigma: float | np.ndarray,
+    pocket_sigma: np.ndarray | None,
+) -> ShotAdvice:
+    """:func:`plan_shot` without the cue ball's path after the first ball."""
     if layout.cue_index is None:
         raise ValueError("no cue ball found on the table")
     if len(racked_balls(layout)):
@@ -380,3 +397,17 @@ def plan_shot(
     if chance.position_sigma > 0 or chance.pocket_sigma > 0:
         exact = shot_chance(planner, layout, g, advice.stroke, chance_samples, 0.0)
     return replace(advice, success_probability=chance.p, chance=chance, chance_exact_positions=exact)
+
+
+def with_cue_after(advice: ShotAdvice, planner: Any, layout: TableLayout) -> ShotAdvice:
+    """``advice`` with where its cue ball goes once it meets the first ball (``cue_after``, ``cue_pocketed``), from the
+    planner's own simulator, played exactly as planned; unchanged for planners without an event simulator or advice
+    without a stroke."""
+    search = _search_planner(planner)
+    simulator = getattr(search, "simulator", None)
+    if advice.stroke is None or not hasattr(simulator, "ball_path"):
+        return advice
+    cue = layout.cue_index
+    path = simulator.ball_path(layout, advice.stroke, cue, from_first_contact=True)
+    dropped = bool(simulator.simulate(layout, advice.stroke).cue_pocketed)
+    return replace(advice, cue_after=path, cue_pocketed=dropped)

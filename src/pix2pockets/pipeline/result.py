@@ -118,6 +118,10 @@ class ShotAdvice:
             ``None`` for a planner's own estimate.
         chance_exact_positions: the same measurement with the balls exactly where they were located (the
             stroke's own risk, without the photo's position error), or ``None``.
+        cue_after: where the cue ball goes once it meets the first ball, played exactly as planned [m], (k, 2): that
+            meeting point, each later event's point (cushions, impacts, the change from sliding to rolling) and
+            where it stops, or drops when ``cue_pocketed``; ``None`` when the planner does not simulate.
+        cue_pocketed: the planned stroke drops the cue ball (``cue_after`` ends at its pocket).
     """
 
     target_ball: int | None
@@ -134,6 +138,8 @@ class ShotAdvice:
     stroke: Shot | None = None
     chance: Chance | None = None
     chance_exact_positions: Chance | None = None
+    cue_after: np.ndarray | None = None
+    cue_pocketed: bool = False
 
     @property
     def power_level(self) -> int:
@@ -159,6 +165,9 @@ class ShotAdvice:
             "tip_offset": None
             if self.stroke is None
             else {"side": round(self.stroke.side, 3), "height": round(self.stroke.height, 3)},
+            "cue_ball_after": None
+            if self.cue_after is None
+            else {"path_m": np.round(self.cue_after, 4).tolist(), "pocketed": self.cue_pocketed},
         }
 
     @property

@@ -47,13 +47,19 @@ _NO_BALL = np.int64(-1)
 
 
 @njit(cache=True, inline="always")
-def _record(nev, record, ev_t, ev_k, ev_a, ev_b, ev_e, t, k, a, b, energy) -> int:
+def _record(nev, record, ev_t, ev_k, ev_a, ev_b, ev_e, t, k, a, b, energy, pos) -> int:
+    """Store one event: time, code, balls, and in ``ev_e`` the kinetic energy after it and where ball ``a`` (and ball
+    ``b`` of a ball-ball event, else NaN) lay at that moment."""
     if record and nev < ev_t.shape[0]:
         ev_t[nev] = t
         ev_k[nev] = k
         ev_a[nev] = a
         ev_b[nev] = b
-        ev_e[nev] = energy
+        ev_e[nev, 0] = energy
+        ev_e[nev, 1] = pos[a, 0]
+        ev_e[nev, 2] = pos[a, 1]
+        ev_e[nev, 3] = pos[b, 0] if k == EV_BALL else np.nan
+        ev_e[nev, 4] = pos[b, 1] if k == EV_BALL else np.nan
     return nev + 1
 
 
@@ -105,7 +111,8 @@ def run_shot(
         angle, speed, side, height, elevation: the stroke (see ``Shot``).
         prm: packed ``PhysicsParams``; geo: packed table geometry (see ``pack_table``).
         stop_mode: ``STOP_*``; max_events: event budget.
-        record: whether to store events in ``ev_*`` (time, code, ball, other, energy after).
+        record: whether to store events in ``ev_*`` (time, code, ball, other; ``ev_e`` (m, 5): the kinetic
+            energy after each event and where its ball and, for a ball-ball event, its other ball lay [m]).
         pocket_of: output, pocket index per ball or -1, shape (n,).
 
     Returns:
@@ -130,7 +137,8 @@ def run_shot(
     now = 0.0
     strike(cue, angle, speed, side, height, elevation, vel, w, prm)
     set_motion(cue, now, vel, w, st, acc, wacc, tend, prm)
-    nev = _record(0, record, ev_t, ev_k, ev_a, ev_b, ev_e, 0.0, EV_STRIKE, cue, -1, kinetic_energy(n, vel, w, st, prm))
+    energy = kinetic_energy(n, vel, w, st, prm)
+    nev = _record(0, record, ev_t, ev_k, ev_a, ev_b, ev_e, 0.0, EV_STRIKE, cue, -1, energy, pos)
     _refresh(cue, n, now, pos, vel, acc, st, tend, prm, geo, ptime, et, ek, ei)
     first = -1
     status = STATUS_OK
@@ -232,7 +240,7 @@ def run_shot(
             a, b = bi, -1
 
         energy = kinetic_energy(n, vel, w, st, prm) if record else 0.0
-        nev = _record(nev, record, ev_t, ev_k, ev_a, ev_b, ev_e, now, code, a, b, energy)
+        nev = _record(nev, record, ev_t, ev_k, ev_a, ev_b, ev_e, now, code, a, b, energy, pos)
         if not (math.isfinite(pos[c1, 0]) and math.isfinite(pos[c1, 1]) and math.isfinite(now)):
             status = STATUS_NOT_FINITE
             break
@@ -269,7 +277,7 @@ def run_shot(
                 best_d, best_q = d, q
         st[i] = ST_POCKETED
         pocket_of[i] = best_q
-        nev = _record(nev, record, ev_t, ev_k, ev_a, ev_b, ev_e, now, EV_POCKET, i, best_q, 0.0)
+        nev = _record(nev, record, ev_t, ev_k, ev_a, ev_b, ev_e, now, EV_POCKET, i, best_q, 0.0, pos)
     return nev, status, first, now
 
 
@@ -300,7 +308,7 @@ def run_shots(
     Args:
         pos0: starting centres [m], shape (n, 2).
         shots: one stroke per row: angle, speed, side, height, elevation; shape (m, 5).
-        record: store the events of the (single) shot in ``ev_*`` (time, code, ball, other, energy
+        record: store the events of the (single) shot in ``ev_*`` (time, code, ball, other, energy and positions
             after); with ``record`` pass ``m == 1``.
         out_pos: final centres, shape (m, n, 2); out_pocket: pocket per ball or -1, shape (m, n);
         out_first: cue ball's first contact or -1, shape (m,); out_status / out_nev / out_time: status,

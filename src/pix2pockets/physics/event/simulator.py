@@ -122,6 +122,36 @@ class EventSimulator(Simulator):
         self, layout: TableLayout, shot: Shot, stop: StopAfter = StopAfter.REST
     ) -> tuple[ShotResult, np.ndarray]:
         """Like ``simulate``, plus the total kinetic energy per unit ball mass [J/kg] after each event."""
+        result, trace = self._traced(layout, shot, stop)
+        return result, trace[:, 0].copy()
+
+    def ball_path(self, layout: TableLayout, shot: Shot, ball: int, from_first_contact: bool = False) -> np.ndarray:
+        """Where ball ``ball`` (an index into ``layout``) goes on ``shot`` [m], (k, 2): its start (or, with
+        ``from_first_contact``, where it first meets another ball; empty if it meets none), its place at each of its
+        events (impacts, cushions, changes of motion) and where it comes to rest, or drops. Between those points it
+        runs on a parabola; the polyline is the path to draw."""
+        result, trace = self._traced(layout, shot, StopAfter.REST)
+        points = [] if from_first_contact else [layout.positions[ball]]
+        for event, row in zip(result.events, trace, strict=True):
+            meets = event.kind is EventType.BALL_BALL and ball in (event.ball, event.other)
+            if from_first_contact and not points and not meets:
+                continue
+            if event.ball == ball:
+                points.append(row[1:3])
+            elif event.kind is EventType.BALL_BALL and event.other == ball:
+                points.append(row[3:5])
+        if not points:
+            return np.zeros((0, 2))
+        if ball in result.final_ids:
+            points.append(result.final.positions[result.final_ids.index(ball)])
+        path = np.array(points, dtype=float)
+        keep = np.ones(len(path), dtype=bool)
+        keep[1:] = np.linalg.norm(np.diff(path, axis=0), axis=1) > 1e-9  # a ball at rest through several events
+        return path[keep]
+
+    def _traced(self, layout: TableLayout, shot: Shot, stop: StopAfter) -> tuple[ShotResult, np.ndarray]:
+        """One shot with its events, and per event (m, 5): the kinetic energy after it per unit ball mass [J/kg],
+        where its ball lay and, for a ball-ball event, where the other ball lay [m] (NaN otherwise)."""
         cue, prm, geo = self._prepare(layout)
         if not isinstance(shot, Shot):
             raise ValueError(f"expected a Shot, got {type(shot).__name__}")
@@ -130,7 +160,7 @@ class EventSimulator(Simulator):
         pos0 = np.array(layout.positions, dtype=float)
         cap = _FIRST_CAPACITY
         while True:  # small event buffers first; rerun with room for the whole budget if they overflow
-            ev_t, ev_e = np.empty(cap), np.empty(cap)
+            ev_t, ev_e = np.empty(cap), np.empty((cap, 5))
             ev_k, ev_a, ev_b = (np.empty(cap, dtype=np.int64) for _ in range(3))
             out = _Outputs(1, len(layout))
             run_shots(
@@ -176,6 +206,7 @@ class EventSimulator(Simulator):
         arr = shots_to_array(shots)
         out = _Outputs(len(arr), len(layout))
         dummy_f = np.zeros(1)
+        dummy_e = np.zeros((1, 5))
         dummy_i = np.zeros(1, dtype=np.int64)
         run_shots(
             np.array(layout.positions, dtype=float),
@@ -190,7 +221,7 @@ class EventSimulator(Simulator):
             dummy_i,
             dummy_i,
             dummy_i,
-            dummy_f,
+            dummy_e,
             *out.arrays,
         )
         return BatchOutcome(out.first, out.pocket, out.pos, out.status, out.nev, cue)
