@@ -9,6 +9,7 @@ import numpy as np
 
 from pix2pockets.geometry import PinholeCamera, TableSpec
 from pix2pockets.vision.detect.analytic import standard_views
+from pix2pockets.vision.table import cloth_edge
 from pix2pockets.vision.table.cloth_edge import (
     cloth_colour,
     cloth_hued,
@@ -275,3 +276,23 @@ def test_cloth_hued_is_the_cloths_hue_in_other_light_only():
     lab = np.array([[70.0, -26.0, -12.0], [30.0, -12.0, -7.0], [60.0, 0.0, 0.0], [50.0, 20.0, 10.0]])
     assert cloth_hued(lab, cloth).tolist() == [True, True, False, False]  # lit, shaded, grey, the opposite hue
     assert not cloth_hued(lab, np.array([50.0, 1.0, -1.0])).any()  # a grey cloth's hue says nothing
+
+
+def test_a_dark_cloths_side_does_not_jump_out_onto_a_rail_as_dark(monkeypatch):
+    """Black cloth, black rails, a light floor: the steepest step near a side is the rail's outer edge, and the fit on
+    the cloth's edge keeps its sides there."""
+    camera = view("oblique")
+    img, boxes = draw_table_photo(camera, cloth=(20, 20, 22), player=False)
+    size = camera.image_size
+    truth = true_outline(camera)
+    rail = camera.project_table(outline_rectangle(SPEC, 0.05 + 0.12), SPEC.cushion_height)
+    img[region(rail, size) & ~region(truth, size)] = (24, 23, 23)
+    fit = fit_outline(truth, size, SPEC, ball_boxes=boxes)
+    mask = region(grown(truth, 0.9), size)
+
+    def error(fitted):
+        return corner_error(fitted.camera.project_table(outline_rectangle(SPEC), SPEC.cushion_height), truth)
+
+    assert error(snap_fit(img, fit, mask, boxes)) < 2.0
+    monkeypatch.setattr(cloth_edge, "DARK_CLOTH_L", 0.0)  # the cloth not counted dark: sides run out to the rail's edge
+    assert error(snap_fit(img, fit, mask, boxes)) > 5.0

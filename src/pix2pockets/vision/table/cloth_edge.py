@@ -78,6 +78,13 @@ PULL_BAND_PX = (1, 5)
 """Band just inside a side, from and to this many pixels in, that must be mostly cloth (:func:`pull_in_sides`)."""
 MIN_CLOTH_INSIDE = 0.5
 """Share of that band's samples that must be the cloth (its colour or its hue in other light) for the side to stay."""
+DARK_CLOTH_L = 25.0
+"""A cloth darker than this (CIE L*, black and the darkest cloths in dim light) shows its edge faintly: a rail as dark
+beside it changes little from the cloth, and the steepest change near a side can be the rail's outer edge, beyond
+which the floor is lighter ..."""
+DARK_CLOTH_OUTWARD = 0.5
+"""... so there a side moves out by at most this share of the cushion's width in the photo (the table model's outline
+lies within about half a cushion of the cloth's edge; the rail's outer edge lies two or more widths out)."""
 PULL_REACH = 0.12
 """How far in a side off the cloth looks for the cloth [share of the outline's length; at most twice
 :data:`MAX_REACH` of the image diagonal]."""
@@ -399,6 +406,8 @@ def snap_fit(rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.nd
     if pulled.moved.any():  # onto the steepest change near where the cloth starts
         again = snap_to_cloth_edge(rgb, pulled.corners_px, colour, SECOND_REACH_PX, pulled.moved)
         second = SnappedOutline(again.corners_px, second.moved | pulled.moved, again.contrast)
+    if colour[0] < DARK_CLOTH_L:  # a dark cloth's edge is faint: a dark rail's outer edge is no cloth edge
+        second = _held_out(second, outline, fit)
     moved = int((first.moved | second.moved).sum())
     floor = MIN_FOCAL * max(w, h)
     if not moved and fit.camera.K[1, 1] >= floor:
@@ -410,6 +419,27 @@ def snap_fit(rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.nd
     if camera is None:
         return fit
     return replace(fit, camera=head_rail_convention(camera, spec), cloth_edges=moved)
+
+
+def _held_out(snapped: SnappedOutline, outline: np.ndarray, fit: TableFit) -> SnappedOutline:
+    """``snapped`` with each side that moved out of ``outline`` (4, 2) [px] by more than :data:`DARK_CLOTH_OUTWARD` of
+    the cushion's width in the photo (between ``fit``'s playing surface and its cloth outline) put back."""
+    spec = fit.spec
+    surface = fit.camera.project_table(outline_rectangle(spec, 0.0), 0.0)
+    _, old = _outward_sides(outline)
+    quad, new = _outward_sides(snapped.corners_px)
+    lines = new.copy()
+    moved = snapped.moved.copy()
+    for k in range(4):
+        mid_new = 0.5 * (quad[k] + quad[(k + 1) % 4])
+        out = mid_new @ old[k, :2] + old[k, 2]
+        mid_surface = 0.5 * (surface[k] + surface[(k + 1) % 4]) - 0.5
+        cushion = abs(mid_surface @ old[k, :2] + old[k, 2])
+        if out > DARK_CLOTH_OUTWARD * cushion:
+            lines[k], moved[k] = old[k], False
+    if (lines == new).all():
+        return snapped
+    return SnappedOutline(quad_of_lines(lines) + 0.5, moved, snapped.contrast)
 
 
 def colour_region(mask: np.ndarray, fit: TableFit) -> np.ndarray:
