@@ -325,3 +325,20 @@ def test_ball_path_of_a_ball_never_met_is_its_spot_and_from_contact_empty():
     shot = Shot(angle=0.0, speed=1.0)
     assert np.allclose(sim.ball_path(layout, shot, 2), [[1.2, 1.1]])
     assert sim.ball_path(layout, shot, 2, from_first_contact=True).shape == (0, 2)
+
+
+def test_a_cut_with_draw_bends_the_cue_balls_path_off_the_tangent_line():
+    """After a cut the cue ball leaves along the tangent line and its backspin pulls it round while it slides: the
+    path is sampled along the parabola, not drawn as a chord."""
+    sim = EventSimulator()
+    layout = _two_balls()
+    ghost = layout.positions[1] - [2 * SPEC.ball_radius, 0.0]
+    cue = np.array([0.6, 0.5])
+    layout = TableLayout(layout.balls, np.array([cue, layout.positions[1]]), SPEC)
+    angle = math.atan2(*(ghost - cue)[::-1])
+    path = sim.ball_path(layout, Shot(angle=angle, speed=3.0, height=-0.5), 0, from_first_contact=True, step=0.01)
+    gaps = np.linalg.norm(np.diff(path, axis=0), axis=1)
+    assert gaps.max() < 0.015  # points about every step along the way
+    start, later = path[0], path[10]
+    normal = np.array([start[1] - later[1], later[0] - start[0]]) / np.linalg.norm(later - start)
+    assert np.abs((path[:11] - start) @ normal).max() > 0.005  # the first 10 cm bend by more than 5 mm

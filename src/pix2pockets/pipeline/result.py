@@ -118,9 +118,9 @@ class ShotAdvice:
             ``None`` for a planner's own estimate.
         chance_exact_positions: the same measurement with the balls exactly where they were located (the
             stroke's own risk, without the photo's position error), or ``None``.
-        cue_after: where the cue ball goes once it meets the first ball, played exactly as planned [m], (k, 2): that
-            meeting point, each later event's point (cushions, impacts, the change from sliding to rolling) and
-            where it stops, or drops when ``cue_pocketed``; ``None`` when the planner does not simulate.
+        cue_after: where the cue ball goes once it meets the first ball, played exactly as planned [m], (k, 2): from
+            that meeting point along the curves it runs (sampled every few centimetres) to where it stops, or drops
+            when ``cue_pocketed``; ``None`` when the planner does not simulate.
         cue_pocketed: the planned stroke drops the cue ball (``cue_after`` ends at its pocket).
     """
 

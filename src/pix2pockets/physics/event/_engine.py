@@ -46,20 +46,27 @@ _SURFACE_TOL = 1e-7  # [m] a resting centre further outside the surface than thi
 _NO_BALL = np.int64(-1)
 
 
+TRACE_WIDTH = 13
+"""Columns of ``ev_e`` per event: the kinetic energy after it, then the centre, velocity and acceleration of its ball
+(1-6) and of its other ball in a ball-ball event (7-12, NaN otherwise), as they move on from the event."""
+
+
 @njit(cache=True, inline="always")
-def _record(nev, record, ev_t, ev_k, ev_a, ev_b, ev_e, t, k, a, b, energy, pos) -> int:
-    """Store one event: time, code, balls, and in ``ev_e`` the kinetic energy after it and where ball ``a`` (and ball
-    ``b`` of a ball-ball event, else NaN) lay at that moment."""
+def _record(nev, record, ev_t, ev_k, ev_a, ev_b, ev_e, t, k, a, b, energy, pos, vel, acc) -> int:
+    """Store one event: time, code, balls, and in ``ev_e`` (:data:`TRACE_WIDTH` columns) the kinetic energy after it
+    and how its ball (and the other ball of a ball-ball event) moves on from it."""
     if record and nev < ev_t.shape[0]:
         ev_t[nev] = t
         ev_k[nev] = k
         ev_a[nev] = a
         ev_b[nev] = b
         ev_e[nev, 0] = energy
-        ev_e[nev, 1] = pos[a, 0]
-        ev_e[nev, 2] = pos[a, 1]
-        ev_e[nev, 3] = pos[b, 0] if k == EV_BALL else np.nan
-        ev_e[nev, 4] = pos[b, 1] if k == EV_BALL else np.nan
+        for col, ball in ((1, a), (7, b)):
+            for axis in range(2):
+                known = col == 1 or k == EV_BALL
+                ev_e[nev, col + axis] = pos[ball, axis] if known else np.nan
+                ev_e[nev, col + 2 + axis] = vel[ball, axis] if known else np.nan
+                ev_e[nev, col + 4 + axis] = acc[ball, axis] if known else np.nan
     return nev + 1
 
 
@@ -111,8 +118,8 @@ def run_shot(
         angle, speed, side, height, elevation: the stroke (see ``Shot``).
         prm: packed ``PhysicsParams``; geo: packed table geometry (see ``pack_table``).
         stop_mode: ``STOP_*``; max_events: event budget.
-        record: whether to store events in ``ev_*`` (time, code, ball, other; ``ev_e`` (m, 5): the kinetic
-            energy after each event and where its ball and, for a ball-ball event, its other ball lay [m]).
+        record: whether to store events in ``ev_*`` (time, code, ball, other; ``ev_e`` (m, :data:`TRACE_WIDTH`):
+            the kinetic energy after each event and how its ball, and the other ball of a ball-ball event, move on).
         pocket_of: output, pocket index per ball or -1, shape (n,).
 
     Returns:
@@ -138,7 +145,7 @@ def run_shot(
     strike(cue, angle, speed, side, height, elevation, vel, w, prm)
     set_motion(cue, now, vel, w, st, acc, wacc, tend, prm)
     energy = kinetic_energy(n, vel, w, st, prm)
-    nev = _record(0, record, ev_t, ev_k, ev_a, ev_b, ev_e, 0.0, EV_STRIKE, cue, -1, energy, pos)
+    nev = _record(0, record, ev_t, ev_k, ev_a, ev_b, ev_e, 0.0, EV_STRIKE, cue, -1, energy, pos, vel, acc)
     _refresh(cue, n, now, pos, vel, acc, st, tend, prm, geo, ptime, et, ek, ei)
     first = -1
     status = STATUS_OK
@@ -240,7 +247,7 @@ def run_shot(
             a, b = bi, -1
 
         energy = kinetic_energy(n, vel, w, st, prm) if record else 0.0
-        nev = _record(nev, record, ev_t, ev_k, ev_a, ev_b, ev_e, now, code, a, b, energy, pos)
+        nev = _record(nev, record, ev_t, ev_k, ev_a, ev_b, ev_e, now, code, a, b, energy, pos, vel, acc)
         if not (math.isfinite(pos[c1, 0]) and math.isfinite(pos[c1, 1]) and math.isfinite(now)):
             status = STATUS_NOT_FINITE
             break
@@ -277,7 +284,7 @@ def run_shot(
                 best_d, best_q = d, q
         st[i] = ST_POCKETED
         pocket_of[i] = best_q
-        nev = _record(nev, record, ev_t, ev_k, ev_a, ev_b, ev_e, now, EV_POCKET, i, best_q, 0.0, pos)
+        nev = _record(nev, record, ev_t, ev_k, ev_a, ev_b, ev_e, now, EV_POCKET, i, best_q, 0.0, pos, vel, acc)
     return nev, status, first, now
 
 

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from dataclasses import replace
 
@@ -13,6 +14,7 @@ from pix2pockets.physics.event._engine import (
     STATUS_NOT_FINITE,
     STATUS_OK,
     STATUS_TOO_MANY_EVENTS,
+    TRACE_WIDTH,
     run_shots,
 )
 from pix2pockets.physics.event.params import PhysicsParams
@@ -31,6 +33,8 @@ _EVENT_TYPES = (
 )
 _STOP_CODES = {StopAfter.REST: 0, StopAfter.FIRST_CONTACT: 1, StopAfter.FIRST_POCKET: 2}
 _FIRST_CAPACITY = 512  # event buffer size tried first [events]
+PATH_STEP = 0.02
+"""Spacing of the points :meth:`EventSimulator.ball_path` samples along a ball's parabolas [m]."""
 
 
 def pack_table(spec: TableSpec) -> tuple[np.ndarray, ...]:
@@ -125,33 +129,49 @@ class EventSimulator(Simulator):
         result, trace = self._traced(layout, shot, stop)
         return result, trace[:, 0].copy()
 
-    def ball_path(self, layout: TableLayout, shot: Shot, ball: int, from_first_contact: bool = False) -> np.ndarray:
-        """Where ball ``ball`` (an index into ``layout``) goes on ``shot`` [m], (k, 2): its start (or, with
-        ``from_first_contact``, where it first meets another ball; empty if it meets none), its place at each of its
-        events (impacts, cushions, changes of motion) and where it comes to rest, or drops. Between those points it
-        runs on a parabola; the polyline is the path to draw."""
+    def ball_path(
+        self,
+        layout: TableLayout,
+        shot: Shot,
+        ball: int,
+        from_first_contact: bool = False,
+        step: float = PATH_STEP,
+    ) -> np.ndarray:
+        """Where ball ``ball`` (an index into ``layout``) goes on ``shot`` [m], (k, 2): from its start (or, with
+        ``from_first_contact``, from where it first meets another ball; empty if it meets none) through each of its
+        events (impacts, cushions, changes of motion) to where it comes to rest, or drops. Between events it runs on a
+        parabola (a sliding ball with spin curves), sampled every ``step`` [m] or so."""
         result, trace = self._traced(layout, shot, StopAfter.REST)
-        points = [] if from_first_contact else [layout.positions[ball]]
+        moves: list[tuple[float, np.ndarray]] = []  # time, and centre, velocity, acceleration it moves on with
         for event, row in zip(result.events, trace, strict=True):
             meets = event.kind is EventType.BALL_BALL and ball in (event.ball, event.other)
-            if from_first_contact and not points and not meets:
+            if from_first_contact and not moves and not meets:
                 continue
             if event.ball == ball:
-                points.append(row[1:3])
-            elif event.kind is EventType.BALL_BALL and event.other == ball:
-                points.append(row[3:5])
-        if not points:
-            return np.zeros((0, 2))
+                moves.append((event.time, row[1:7]))
+            elif meets:
+                moves.append((event.time, row[7:13]))
+        if not moves:
+            return np.zeros((0, 2)) if from_first_contact else layout.positions[[ball]].astype(float)
+        points = [] if from_first_contact else [layout.positions[ball]]
+        end = result.events[-1].time if result.events else 0.0
+        for k, (t0, motion) in enumerate(moves):
+            r0, v0, a = motion[0:2], motion[2:4], motion[4:6]
+            t1 = moves[k + 1][0] if k + 1 < len(moves) else t0 + _time_to_rest(v0, a, end - t0)
+            n = max(1, math.ceil(np.hypot(*v0) * (t1 - t0) / step))
+            t = np.linspace(0.0, t1 - t0, n + 1)[:, None]
+            points.extend(r0 + v0 * t + 0.5 * a * t * t)
         if ball in result.final_ids:
-            points.append(result.final.positions[result.final_ids.index(ball)])
+            points[-1] = result.final.positions[result.final_ids.index(ball)]
         path = np.array(points, dtype=float)
         keep = np.ones(len(path), dtype=bool)
         keep[1:] = np.linalg.norm(np.diff(path, axis=0), axis=1) > 1e-9  # a ball at rest through several events
         return path[keep]
 
     def _traced(self, layout: TableLayout, shot: Shot, stop: StopAfter) -> tuple[ShotResult, np.ndarray]:
-        """One shot with its events, and per event (m, 5): the kinetic energy after it per unit ball mass [J/kg],
-        where its ball lay and, for a ball-ball event, where the other ball lay [m] (NaN otherwise)."""
+        """One shot with its events, and per event (m, ``TRACE_WIDTH``): the kinetic energy after it per unit ball mass
+        [J/kg], then the centre [m], velocity [m/s] and acceleration [m/s^2] its ball moves on with, and those of the
+        other ball of a ball-ball event (NaN otherwise)."""
         cue, prm, geo = self._prepare(layout)
         if not isinstance(shot, Shot):
             raise ValueError(f"expected a Shot, got {type(shot).__name__}")
@@ -160,7 +180,7 @@ class EventSimulator(Simulator):
         pos0 = np.array(layout.positions, dtype=float)
         cap = _FIRST_CAPACITY
         while True:  # small event buffers first; rerun with room for the whole budget if they overflow
-            ev_t, ev_e = np.empty(cap), np.empty((cap, 5))
+            ev_t, ev_e = np.empty(cap), np.empty((cap, TRACE_WIDTH))
             ev_k, ev_a, ev_b = (np.empty(cap, dtype=np.int64) for _ in range(3))
             out = _Outputs(1, len(layout))
             run_shots(
@@ -206,7 +226,7 @@ class EventSimulator(Simulator):
         arr = shots_to_array(shots)
         out = _Outputs(len(arr), len(layout))
         dummy_f = np.zeros(1)
-        dummy_e = np.zeros((1, 5))
+        dummy_e = np.zeros((1, TRACE_WIDTH))
         dummy_i = np.zeros(1, dtype=np.int64)
         run_shots(
             np.array(layout.positions, dtype=float),
@@ -260,6 +280,15 @@ def shots_to_array(shots: np.ndarray | Sequence[Shot]) -> np.ndarray:
             raise ValueError(f"expected Shot objects, got {type(s).__name__}")
         rows.append((s.angle, s.speed, s.side, s.height, s.elevation))
     return np.array(rows, dtype=float).reshape(-1, 5)
+
+
+def _time_to_rest(v0: np.ndarray, a: np.ndarray, horizon: float) -> float:
+    """How long a ball moving on with velocity ``v0`` and constant deceleration ``a`` keeps moving [s] (when ``a``
+    opposes ``v0``), at most ``horizon``."""
+    speed, decel = float(np.hypot(*v0)), float(np.hypot(*a))
+    if speed == 0.0:
+        return 0.0
+    return min(speed / decel, horizon) if decel > 0.0 else horizon
 
 
 def _check_status(status: int, max_events: int) -> None:
