@@ -144,11 +144,10 @@ def hand_racked(tight: TableLayout, rng: np.random.Generator) -> TableLayout:
     diameter = 2 * tight.spec.ball_radius
     middle = tight.positions[rack].mean(axis=0)
     radii = tight.radii
-    others = tight.positions.copy()
+    spread = middle + (tight.positions[rack] - middle) * (1 + RACKED_GAP / diameter)
     while True:
-        positions = others.copy()
-        positions[rack] = middle + (tight.positions[rack] - middle) * (1 + RACKED_GAP / diameter)
-        positions[rack] += rng.normal(0.0, RACKED_JITTER, (len(rack), 2))
+        positions = tight.positions.copy()
+        positions[rack] = spread + rng.normal(0.0, RACKED_JITTER, (len(rack), 2))
         gaps = np.linalg.norm(positions[rack][:, None] - positions[None], axis=2) - radii[rack][:, None] - radii[None]
         gaps[np.arange(len(rack)), rack] = np.inf
         if gaps.min() > 0:

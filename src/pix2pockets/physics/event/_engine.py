@@ -62,8 +62,8 @@ def _record(nev, record, ev_t, ev_k, ev_a, ev_b, ev_e, t, k, a, b, energy, pos, 
         ev_b[nev] = b
         ev_e[nev, 0] = energy
         for col, ball in ((1, a), (7, b)):
+            known = col == 1 or k == EV_BALL  # the other ball of a ball-ball event only
             for axis in range(2):
-                known = col == 1 or k == EV_BALL
                 ev_e[nev, col + axis] = pos[ball, axis] if known else np.nan
                 ev_e[nev, col + 2 + axis] = vel[ball, axis] if known else np.nan
                 ev_e[nev, col + 4 + axis] = acc[ball, axis] if known else np.nan
@@ -315,8 +315,8 @@ def run_shots(
     Args:
         pos0: starting centres [m], shape (n, 2).
         shots: one stroke per row: angle, speed, side, height, elevation; shape (m, 5).
-        record: store the events of the (single) shot in ``ev_*`` (time, code, ball, other, energy and positions
-            after); with ``record`` pass ``m == 1``.
+        record: store the events of the (single) shot in ``ev_*`` (time, code, ball, other, and in ``ev_e`` the
+            energy after and how the event's balls move on, see :func:`run_shot`); with ``record`` pass ``m == 1``.
         out_pos: final centres, shape (m, n, 2); out_pocket: pocket per ball or -1, shape (m, n);
         out_first: cue ball's first contact or -1, shape (m,); out_status / out_nev / out_time: status,
         event count and end time [s] per shot, shape (m,).

@@ -154,10 +154,9 @@ class EventSimulator(Simulator):
         if not moves:
             return np.zeros((0, 2)) if from_first_contact else layout.positions[[ball]].astype(float)
         points = [] if from_first_contact else [layout.positions[ball]]
-        end = result.events[-1].time if result.events else 0.0
-        for k, (t0, motion) in enumerate(moves):
+        for k, (t0, motion) in enumerate(moves):  # its last event stops it (or drops it): no motion after that
             r0, v0, a = motion[0:2], motion[2:4], motion[4:6]
-            t1 = moves[k + 1][0] if k + 1 < len(moves) else t0 + _time_to_rest(v0, a, end - t0)
+            t1 = moves[k + 1][0] if k + 1 < len(moves) else t0
             n = max(1, math.ceil(np.hypot(*v0) * (t1 - t0) / step))
             t = np.linspace(0.0, t1 - t0, n + 1)[:, None]
             points.extend(r0 + v0 * t + 0.5 * a * t * t)
@@ -280,15 +279,6 @@ def shots_to_array(shots: np.ndarray | Sequence[Shot]) -> np.ndarray:
             raise ValueError(f"expected Shot objects, got {type(s).__name__}")
         rows.append((s.angle, s.speed, s.side, s.height, s.elevation))
     return np.array(rows, dtype=float).reshape(-1, 5)
-
-
-def _time_to_rest(v0: np.ndarray, a: np.ndarray, horizon: float) -> float:
-    """How long a ball moving on with velocity ``v0`` and constant deceleration ``a`` keeps moving [s] (when ``a``
-    opposes ``v0``), at most ``horizon``."""
-    speed, decel = float(np.hypot(*v0)), float(np.hypot(*a))
-    if speed == 0.0:
-        return 0.0
-    return min(speed / decel, horizon) if decel > 0.0 else horizon
 
 
 def _check_status(status: int, max_events: int) -> None:
