@@ -132,3 +132,30 @@ def test_the_advice_shows_where_the_cue_ball_goes_after_the_first_ball(layout):
     d = json.loads(json.dumps(advice.to_dict()))["cue_ball_after"]
     assert np.allclose(d["path_m"], np.round(path, 4)) and d["pocketed"] == advice.cue_pocketed
     assert plan_shot(layout, "solids", NearestPocketPlanner()).cue_after is None  # no simulator, no path
+
+
+def test_a_pot_the_photo_errors_ruin_gives_way_to_the_next_best(layout, monkeypatch):
+    """A first candidate the planner rates highly but that pots nothing as played (a stroke off every ball, kind
+    "other", so not re-aimed) measures near 0: the next best pot, measured the same way, is suggested instead."""
+    from pix2pockets.pipeline import planning
+    from pix2pockets.planner.base import Suggestion
+    from pix2pockets.state import Group, Shot
+
+    target = layout.indices_of(Group.SOLIDS.ball_class)[0]
+    cue = layout.positions[layout.cue_index]
+    away = float(np.arctan2(*(cue - layout.positions[target])[::-1]))  # straight away from the target
+    fragile = Suggestion(Shot(away, 1.0), target=target, pocket=2, kind=None, success_probability=0.9, value=0.9)
+
+    class FragileFirst:
+        def __init__(self, planner):
+            self.planner = planner
+
+        def suggest(self, *args, **kwargs):
+            return [fragile, *self.planner.suggest(*args, **kwargs)]
+
+    planner = FragileFirst(default_planner())
+    advice = plan_shot(layout, "solids", planner, np.random.default_rng(0), chance_samples=60)
+    assert advice.stroke != fragile.shot and advice.success_probability > 0.3
+    monkeypatch.setattr(planning, "RETRY_SHARE", 0.0)  # never fall back: the fragile pot stays
+    kept = plan_shot(layout, "solids", planner, np.random.default_rng(0), chance_samples=60)
+    assert kept.stroke == fragile.shot and kept.success_probability < 0.05

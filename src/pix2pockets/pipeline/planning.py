@@ -8,7 +8,8 @@ With the search planner the chance shown is measured (:func:`pix2pockets.planner
 the chosen stroke replayed :data:`CHANCE_SAMPLES` times under the player's skill noise, with the balls
 moved by the photo's location error (each ball's own, from the fitted camera and the fit's error,
 :mod:`pix2pockets.vision.locate.position_error`; :data:`PHOTO_POSITION_SIGMA` per axis for a layout without a
-photo), and reported with its sample size.
+photo), and reported with its sample size. A pot whose chance so measured falls far below the planner's own estimate
+gives way to the next best pot that the photo's errors spare more (:data:`RETRY_SHARE`).
 """
 
 from __future__ import annotations
@@ -45,6 +46,12 @@ BREAK_RACKS = 20
 RERANKED_CANDIDATES = 8
 """Candidates ranked again when a pocket's place is unsure: the search planner's strokes valued by noisy replays
 (``SearchConfig.max_verified``); those after them carry only their clean value."""
+RETRIED_CANDIDATES = 4
+"""Pots of each group kept to fall back on ..."""
+RETRY_SHARE = 0.5
+"""... when the chosen pot's chance under the photo's errors is less than this share of the planner's own estimate
+(the balls exactly where the photo puts them): a combination or a thin cut that needs the balls to the millimetre
+may lose to a plainer pot there. The pot with the best chance so measured is suggested."""
 PHOTO_POSITION_SIGMA = 0.003
 """Ball-position error per axis [m] of a layout whose photo is not at hand: the shipped detector's median ball error
 on renders is 1.4-4.2 mm (docs/benchmarks-vision.md); a 2-D Gaussian with 3 mm per axis has a median error of
@@ -361,42 +368,75 @@ def _plan(
         pocket = getattr(candidate, "pocket", None)
         return 1.0 if pocket is None else pocket_hit_share(spec, pocket, float(sigmas[pocket]))
 
-    best: tuple[float, ShotAdvice] | None = None
+    firsts: list[tuple[float, ShotAdvice, Any]] = []  # each group's best: (score, advice, candidate)
+    others: list[ShotAdvice] = []  # the next pots of each group, to fall back on
     for g in groups_to_plan(layout, group):
         candidates = planner.suggest(layout, GameState(group=g), rng)
         if not candidates:
             continue
-        cand = candidates[0]
         if np.any(sigmas > 0):  # a pocket out of the photo: the best strokes ranked again by the errors they survive
-            cand = max(
+            candidates = sorted(
                 candidates[:RERANKED_CANDIDATES],
                 key=lambda c: float(getattr(c, "value", 0.0)) * share(c) - 1e3 * _is_safety(c),
+                reverse=True,
             )
-        advice = advice_from_candidate(cand, layout, g)
-        score = _value_of(cand) * share(cand) - (1e3 if advice.safety else 0.0)
-        if best is None or score > best[0]:
-            best = (score, advice)
-    if best is None:
+        advices = [advice_from_candidate(c, layout, g) for c in candidates[:RETRIED_CANDIDATES]]
+        score = _value_of(candidates[0]) * share(candidates[0]) - (1e3 if advices[0].safety else 0.0)
+        firsts.append((score, advices[0], candidates[0]))
+        others.extend(advices[1:])
+    if not firsts:
         raise ValueError("the planner found no shot")
-    advice = best[1]
+    _, advice, cand = max(firsts, key=lambda item: item[0])
+    others = [a for _, a, _ in firsts if a is not advice] + others
     if advice.safety or advice.stroke is None:
         return advice
-    g = Group(advice.group)
-    # the player aims at the real balls: direct and bank strokes follow the ghost ball; kicks keep their angle
-    aim = advice.ghost if advice.kind != "kick" else None
-    pocket = spec.pocket_index(advice.pocket)
-    # a kick or a combination is not re-aimed along a line to its pocket: measured with the pocket where it was fitted
-    unsure = float(sigmas[pocket]) if advice.kind in ("direct", "bank") else 0.0
-    distance = float(np.linalg.norm(np.diff(advice.object_path, axis=0), axis=1).sum())
-    chance = shot_chance(
-        planner, layout, g, advice.stroke, chance_samples, position_sigma, 0, advice.target_ball, aim, unsure, distance
-    )
+    chance = _photo_chance(planner, layout, advice, chance_samples, position_sigma, sigmas)
     if chance is None:
         return advice
+    planned = getattr(cand, "success_probability", None)
+    if planned is not None and chance.p < RETRY_SHARE * float(planned):
+        # the photo's errors take most of the chosen shot's chance: the next best pots are measured the same way
+        for other in others:
+            if other.safety or other.stroke is None:
+                continue
+            measured = _photo_chance(planner, layout, other, chance_samples, position_sigma, sigmas)
+            if measured is not None and measured.p > chance.p:
+                advice, chance = other, measured
     exact = chance
     if chance.position_sigma > 0 or chance.pocket_sigma > 0:
-        exact = shot_chance(planner, layout, g, advice.stroke, chance_samples, 0.0)
+        exact = shot_chance(planner, layout, Group(advice.group), advice.stroke, chance_samples, 0.0)
     return replace(advice, success_probability=chance.p, chance=chance, chance_exact_positions=exact)
+
+
+def _photo_chance(
+    planner: ShotPlanner,
+    layout: TableLayout,
+    advice: ShotAdvice,
+    samples: int,
+    position_sigma: float | np.ndarray,
+    pocket_sigmas: np.ndarray,
+) -> Chance | None:
+    """The measured chance of a pot ``advice`` under the planner's noise and the photo's errors (the balls'
+    ``position_sigma``, each pocket's ``pocket_sigmas``), re-aimed on each drawn layout as a player aiming at the
+    real balls would: direct and bank strokes at the ghost ball, kicks at their angle. None without a simulator."""
+    aim = advice.ghost if advice.kind != "kick" else None
+    pocket = layout.spec.pocket_index(advice.pocket)
+    # a kick or a combination is not re-aimed along a line to its pocket: measured with the pocket where it was fitted
+    unsure = float(pocket_sigmas[pocket]) if advice.kind in ("direct", "bank") else 0.0
+    distance = float(np.linalg.norm(np.diff(advice.object_path, axis=0), axis=1).sum())
+    return shot_chance(
+        planner,
+        layout,
+        Group(advice.group),
+        advice.stroke,
+        samples,
+        position_sigma,
+        0,
+        advice.target_ball,
+        aim,
+        unsure,
+        distance,
+    )
 
 
 def with_cue_after(advice: ShotAdvice, planner: Any, layout: TableLayout) -> ShotAdvice:
