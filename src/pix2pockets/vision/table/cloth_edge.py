@@ -406,9 +406,10 @@ def snap_fit(rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.nd
     if pulled.moved.any():  # onto the steepest change near where the cloth starts
         again = snap_to_cloth_edge(rgb, pulled.corners_px, colour, SECOND_REACH_PX, pulled.moved)
         second = SnappedOutline(again.corners_px, second.moved | pulled.moved, again.contrast)
+    second = SnappedOutline(second.corners_px, first.moved | second.moved, second.contrast)  # moved in either pass
     if colour[0] < DARK_CLOTH_L:  # a dark cloth's edge is faint: a dark rail's outer edge is no cloth edge
         second = _held_out(second, outline, fit)
-    moved = int((first.moved | second.moved).sum())
+    moved = int(second.moved.sum())
     floor = MIN_FOCAL * max(w, h)
     if not moved and fit.camera.K[1, 1] >= floor:
         return fit
