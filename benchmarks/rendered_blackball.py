@@ -42,11 +42,11 @@ def truth_of(labels: dict) -> GroundTruth:
     return GroundTruth(boxes, np.array([b["class_id"] for b in balls], dtype=int))
 
 
-def render_options(description: str, n: int, what: str = "renders") -> argparse.Namespace:
+def render_options(description: str, n: int, what: str = "renders", seed: int = 7000) -> argparse.Namespace:
     """The command line of a benchmark on renders: ``--n``, ``--seed``, ``--size`` and ``--json``."""
     ap = argparse.ArgumentParser(description=description, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--n", type=int, default=n, help=f"{what} (default {n})")
-    ap.add_argument("--seed", type=int, default=7000, help="first render seed (default 7000)")
+    ap.add_argument("--seed", type=int, default=seed, help=f"first render seed (default {seed})")
     ap.add_argument("--size", default="960x540", help="render size WxH (default 960x540)")
     ap.add_argument("--json", default=None, help="write the results here")
     return ap.parse_args()

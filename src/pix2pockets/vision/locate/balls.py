@@ -65,25 +65,57 @@ def _box_centres(boxes: np.ndarray) -> np.ndarray:
     return (boxes[:, :2] + boxes[:, 2:]) / 2
 
 
+HIDDEN_EDGE = 0.06
+"""A box edge counts as hidden when the ball's predicted visible part stops short of its silhouette there by more
+than this share of the silhouette's size (and at least a pixel)."""
+
+
+def hidden_edges(visible: np.ndarray, silhouettes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Masks ``(lo, hi)`` (n, 2) of the x and y box edges where a ball's visible box (n, 4) [px] stops short of its
+    silhouette box (n, 4) [px]; none for a ball not seen at all."""
+    size = silhouettes[:, 2:] - silhouettes[:, :2]
+    slack = np.maximum(HIDDEN_EDGE * size, 1.0)
+    with np.errstate(invalid="ignore"):
+        lo = visible[:, :2] - silhouettes[:, :2] > slack
+        hi = silhouettes[:, 2:] - visible[:, 2:] > slack
+    return lo, hi
+
+
 def locate_sphere(
-    camera: PinholeCamera, boxes: np.ndarray, radius: float, iterations: int = 6, border_px: float = 1.0
+    camera: PinholeCamera,
+    boxes: np.ndarray,
+    radius: float,
+    iterations: int = 6,
+    border_px: float = 1.0,
+    spec: TableSpec | None = None,
+    occlusion: bool = True,
 ) -> np.ndarray:
     """Table centres [m] (n, 2) of balls whose silhouette boxes best match ``boxes`` (n, 4) [px].
 
-    A box cut by the image border keeps only its inner edge on that axis: the centre used is that edge
-    minus half the predicted silhouette size (boxes touching both borders of an axis use the centre).
+    A box cut on one side keeps only its other edge on that axis: the centre used is that edge less half the
+    predicted silhouette size. A side is cut where the box touches the image border or, with ``occlusion``, where
+    the ball's predicted visible part (:func:`~pix2pockets.vision.locate.visibility.visible_boxes`: the other
+    balls, the cushions of ``spec`` and the image border hide parts of it) stops short of its silhouette. A box cut
+    on both sides of an axis uses its centre there.
     """
+    from pix2pockets.vision.locate.visibility import visible_boxes
+
     boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
     if len(boxes) == 0:
         return np.zeros((0, 2))
     w, h = camera.image_size
-    lo_cut = boxes[:, :2] <= border_px
-    hi_cut = boxes[:, 2:] >= np.array([w, h]) - border_px
-    only_lo, only_hi = lo_cut & ~hi_cut, hi_cut & ~lo_cut
+    border_lo = boxes[:, :2] <= border_px
+    border_hi = boxes[:, 2:] >= np.array([w, h]) - border_px
     Hinv = np.linalg.inv(camera.table_homography(radius))
     xy = apply_homography(Hinv, _box_centres(boxes))
-    for _ in range(iterations):
-        pred = sphere_boxes(camera, np.column_stack([xy, np.full(len(xy), radius)]), radius)
+    lo_cut, hi_cut = border_lo, border_hi
+    for step in range(iterations):
+        centres = np.column_stack([xy, np.full(len(xy), radius)])
+        pred = sphere_boxes(camera, centres, radius)
+        if occlusion and step < iterations - 1 and np.all(np.isfinite(xy)):
+            hidden_lo, hidden_hi = hidden_edges(visible_boxes(camera, centres, radius, pred, spec), pred)
+            lo_cut, hi_cut = border_lo | hidden_lo, border_hi | hidden_hi
+        only_lo, only_hi = lo_cut & ~hi_cut, hi_cut & ~lo_cut
         half = (pred[:, 2:] - pred[:, :2]) / 2
         centre = _box_centres(boxes)
         centre = np.where(only_lo, boxes[:, 2:] - half, centre)
@@ -192,7 +224,7 @@ def table_centres(
     method = LocateMethod(method)
     if method is LocateMethod.LINEAR:
         return locate_linear(camera, detections.boxes, spec, diamond_z)
-    xy = locate_sphere(camera, detections.boxes, spec.ball_radius)
+    xy = locate_sphere(camera, detections.boxes, spec.ball_radius, spec=spec)
     if method is LocateMethod.CONTACT:
         has = np.all(np.isfinite(detections.contact), axis=1)
         if has.any():
