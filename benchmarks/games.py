@@ -8,7 +8,10 @@ free spot the player's planner likes best (:func:`pix2pockets.planner.ball_in_ha
 
 Usage:
     OMP_NUM_THREADS=1 PYTHONPATH=src python benchmarks/games.py [--a search] [--b oracle] [--set blackball]
-        [--skill club] [--games 40] [--seed 0] [--time-budget 0.3] [--json OUT.json]
+        [--skill club] [--games 40] [--seed 0] [--stroke-budget 3000] [--time-budget S] [--json OUT.json]
+
+The search planner's decisions are capped at ``--stroke-budget`` simulated strokes (about 0.3 s on one quiet core), so
+the same games are played on any machine; ``--time-budget`` caps them in seconds instead (or as well).
 """
 
 from __future__ import annotations
@@ -37,13 +40,17 @@ def main() -> None:
     ap.add_argument("--skill", default="club", help="stroke noise of both players (default club)")
     ap.add_argument("--games", type=int, default=40)
     ap.add_argument("--seed", type=int, default=0)
-    ap.add_argument("--time-budget", type=float, default=0.3, help="search planner's budget per decision [s]")
+    ap.add_argument(
+        "--stroke-budget", type=int, default=3000, help="search planner's strokes simulated per decision at most"
+    )
+    ap.add_argument("--time-budget", type=float, default=None, help="search planner's time per decision at most [s]")
     ap.add_argument("--json", default=None)
     args = ap.parse_args()
 
     noise = noise_model(args.skill)
-    a = make_planner(args.a, noise=args.skill, time_budget=args.time_budget)
-    b = make_planner(args.b, noise=args.skill, time_budget=args.time_budget)
+    budget = {"time_budget": args.time_budget, "stroke_budget": args.stroke_budget}
+    a = make_planner(args.a, noise=args.skill, **budget)
+    b = make_planner(args.b, noise=args.skill, **budget)
     protocol = ours_protocol(table_preset(TABLES[args.ball_set]))
     sim = make_simulator("event")
     wins = {"A": 0, "B": 0, "unfinished": 0}
@@ -72,6 +79,7 @@ def main() -> None:
         "games": args.games,
         "seed": args.seed,
         "time_budget_s": args.time_budget,
+        "stroke_budget": args.stroke_budget,
         "wins": wins,
         "a_win_share": wins["A"] / args.games,
         "a_win_share_ci95": [lo, hi],

@@ -15,6 +15,11 @@ stops where the hidden part begins, and the box's centre is not the ball's. Two 
 Reported per hidden share (``occluded_fraction`` of the labels: the share of the ball's in-frame silhouette that
 something in front hides; balls cut by the image border left out): balls, median and 90th percentile error [mm].
 
+And how honest each pipeline ball's position error is (``position_covariances``, the spread a shot's chance is
+measured over), without and with the part of a box that nothing modelled explains (``unexplained_shortfall``: a
+player or a cue over the ball): the share of balls whose error lies within twice their larger sigma, for the balls
+so widened and the others.
+
 Usage:
     PYTHONPATH=src python benchmarks/hidden_ball_location.py [--n 100] [--seed 5000] [--size 960x540] [--json OUT]
 """
@@ -35,6 +40,8 @@ from pix2pockets.pipeline.photo import default_detector, find_table
 from pix2pockets.synth.renderer import parse_size, render
 from pix2pockets.vision.detect.postprocess import box_iou
 from pix2pockets.vision.locate.balls import locate_sphere
+from pix2pockets.vision.locate.position_error import position_covariances, position_sigmas
+from pix2pockets.vision.locate.visibility import unexplained_shortfall
 from pix2pockets.vision.table.fit import TableFitError
 from rendered_blackball import render_options
 
@@ -54,10 +61,13 @@ def render_camera(labels: dict) -> PinholeCamera:
     return PinholeCamera(np.array(c["K"]), np.array(c["R"]), np.array(c["t"]), tuple(c["image_size"]))
 
 
-def errors_of(camera: PinholeCamera, boxes: np.ndarray, truth: np.ndarray, spec, flips: bool) -> dict[str, np.ndarray]:
-    """Each ball's location error [m] for both modes; with ``flips`` the half-turned table's reading too, the nearer
-    on median kept."""
+def errors_of(
+    camera: PinholeCamera, boxes: np.ndarray, truth: np.ndarray, spec, flips: bool
+) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    """Each ball's location error [m] for both modes, and the centres located with the hidden parts modelled (n, 2)
+    [m]; with ``flips`` the half-turned table's reading too, the nearer on median kept."""
     out = {}
+    located = np.zeros((len(boxes), 2))
     for mode in MODES:
         xy = locate_sphere(camera, boxes, spec.ball_radius, spec=spec, occlusion=mode == "with")
         err = np.linalg.norm(xy - truth, axis=1)
@@ -66,6 +76,23 @@ def errors_of(camera: PinholeCamera, boxes: np.ndarray, truth: np.ndarray, spec,
             err_turned = np.linalg.norm(turned - truth, axis=1)
             err = err_turned if np.median(err_turned) < np.median(err) else err
         out[mode] = err
+        located = xy
+    return out, located
+
+
+def honesty(rows: list[tuple[float, float, float, bool]]) -> dict:
+    """Balls' errors against their position sigmas: per group (widened by a shortfall or not), the ball count, the
+    median error and sigmas [mm] and the share within twice the sigma, without / with the shortfall."""
+    r = np.array(rows, dtype=float).reshape(-1, 4)
+    out = {}
+    for name, m in (("widened", r[:, 3] > 0), ("others", r[:, 3] == 0)):
+        e, before, after = r[m, 0], r[m, 1], r[m, 2]
+        out[name] = {
+            "balls": int(m.sum()),
+            "error_median_mm": float(np.median(e) * 1000) if m.any() else None,
+            "sigma_median_mm": [float(np.median(v) * 1000) if m.any() else None for v in (before, after)],
+            "within_2_sigma": [float(np.mean(e < 2 * v)) if m.any() else None for v in (before, after)],
+        }
     return out
 
 
@@ -98,6 +125,7 @@ def main() -> None:
     found: dict[str, list] = {"labels": [], "pipeline": []}
     errs: dict[str, dict[str, list]] = {k: {m: [] for m in MODES} for k in found}
     fitted = good = 0
+    sigmas: list[tuple[float, float, float, bool]] = []
     start = time.perf_counter()
     for k in range(args.n):
         out = render((args.seed, k), size)
@@ -109,7 +137,7 @@ def main() -> None:
         boxes = np.array([b["box_px"] for b in balls], dtype=float)
         truth = np.array([b["centre_table_m"][:2] for b in balls])
         shares = np.array([b["occluded_fraction"] for b in balls])
-        by_labels = errors_of(render_camera(lab), boxes, truth, spec, flips=False)
+        by_labels, _ = errors_of(render_camera(lab), boxes, truth, spec, flips=False)
         found["labels"].extend(shares)
         for m in MODES:
             errs["labels"][m].extend(by_labels[m])
@@ -127,7 +155,8 @@ def main() -> None:
         matched = iou[np.arange(len(boxes)), best] >= 0.5
         if not matched.any():
             continue
-        by_pipeline = errors_of(fit.camera, det.boxes[best[matched]], truth[matched], fit.spec, flips=True)
+        kept = det.boxes[best[matched]]
+        by_pipeline, xy = errors_of(fit.camera, kept, truth[matched], fit.spec, flips=True)
         whole = shares[matched] < BINS[0][1]
         if not whole.any() or np.median(by_pipeline["without"][whole]) > GOOD_FIT:
             continue
@@ -135,6 +164,11 @@ def main() -> None:
         found["pipeline"].extend(shares[matched])
         for m in MODES:
             errs["pipeline"][m].extend(by_pipeline[m])
+        r = fit.spec.ball_radius
+        short = unexplained_shortfall(fit.camera, kept, xy, r, fit.spec)
+        before = position_sigmas(position_covariances(fit.camera, xy, r, fit.rms_px))
+        after = position_sigmas(position_covariances(fit.camera, xy, r, fit.rms_px, short))
+        sigmas.extend(zip(by_pipeline["with"], before, after, short.max(axis=1) > 0, strict=True))
     report: dict = {
         "n_renders": args.n,
         "first_seed": args.seed,
@@ -146,6 +180,16 @@ def main() -> None:
         rows = summary(np.array(found[reading]), {m: np.array(errs[reading][m]) for m in MODES})
         report[reading] = rows
         print_rows(f"{reading} ({len(found[reading])} balls)", rows)
+    report["position_error"] = honesty(sigmas)
+    print("pipeline balls within twice their position sigma, without / with the unexplained shortfall:")
+    for name, h in report["position_error"].items():
+        if h["balls"]:
+            b, a = h["sigma_median_mm"]
+            w0, w1 = h["within_2_sigma"]
+            print(
+                f"  {name:8s} {h['balls']:4d} balls, error {h['error_median_mm']:5.1f} mm, "
+                f"sigma {b:5.1f} / {a:5.1f} mm, within 2 sigma {w0:.2f} / {w1:.2f}"
+            )
     took = time.perf_counter() - start
     print(f"{fitted} of {args.n} renders fitted, {good} within {GOOD_FIT * 100:.0f} cm; {took:.0f} s")
     if args.json:

@@ -148,6 +148,7 @@ def test_blackball_success_predicate_matches_its_rules():
         ({"two_ply_samples": 9, "samples": 4, "refine_samples": 4}, "two_ply_samples"),
         ({"two_ply_weight": -1.0}, "two_ply_weight"),
         ({"final_scale": 0}, "final_scale"),
+        ({"stroke_budget": 0}, "stroke_budget"),
     ],
 )
 def test_bad_config(kw, match):
@@ -260,3 +261,18 @@ def test_the_winning_shot_gets_more_replays(monkeypatch, final_scale):
     with_a_solid = layout([MID, 0.8], [MID, 0.3], [2.0, 1.0], [0.6, 0.4], numbers=[0, 1, 8, 9])
     planner.suggest(with_a_solid, SOLIDS, np.random.default_rng(0))
     assert counts[:2] == [cfg.samples, cfg.refine_samples]
+
+
+def test_a_stroke_budget_caps_the_work_and_gives_the_same_decision_every_time():
+    lay = random_layout(np.random.default_rng(11), list(range(16)))
+    free = SearchPlanner(SearchConfig(**FAST))
+    free.suggest(lay, SOLIDS, np.random.default_rng(4))
+    unlimited = free._strokes
+    cap = unlimited // 3
+    capped = SearchPlanner(SearchConfig(**{**FAST, "stroke_budget": cap}))
+    a = capped.suggest(lay, SOLIDS, np.random.default_rng(4))
+    assert cap <= capped._strokes < unlimited  # stops after the batch that reaches the cap
+    b = capped.suggest(lay, SOLIDS, np.random.default_rng(4))
+    assert [(s.shot, s.target, s.success_probability) for s in a] == [
+        (s.shot, s.target, s.success_probability) for s in b
+    ]

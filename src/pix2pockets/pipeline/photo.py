@@ -35,6 +35,7 @@ from pix2pockets.vision.detect.postprocess import DEFAULT_NMS_IOU, apply_caps, b
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.locate.balls import LocatedBalls, LocateMethod, locate_balls, on_the_table, sphere_boxes
 from pix2pockets.vision.locate.position_error import position_covariances, position_sigmas
+from pix2pockets.vision.locate.visibility import unexplained_shortfall
 from pix2pockets.vision.stages.ball_classifier import NUMBER_PROBS
 from pix2pockets.vision.stages.ball_colours import BALL_COLOUR, RED, YELLOW, blackball_classes, read_ball_set
 from pix2pockets.vision.stages.ball_numbers import BallNumberReader, assign_numbers
@@ -379,7 +380,8 @@ def suggest(
     t = time.perf_counter()
     planner = planner_for_set(planner or default_planner(skill=skill), chosen)
     group_asked = wanted if wanted == "auto" else wanted.value
-    position_cov = position_covariances(fit.camera, layout.positions, spec.ball_radius, fit.rms_px)
+    shortfall = unexplained_shortfall(fit.camera, kept.boxes, layout.positions[: len(kept)], spec.ball_radius, spec)
+    position_cov = position_covariances(fit.camera, layout.positions, spec.ball_radius, fit.rms_px, shortfall)
     if in_hand is not InHand.NONE:  # placed for the better group when asked for either: the shot is for that one
         layout, placed_for = place_in_hand(layout, group_asked, planner, in_hand, rng)
         group_asked = placed_for.value
@@ -494,8 +496,9 @@ def balls_in_play(
     ball_set: BallSet,
     fit: TableFit,
     method: LocateMethod | str = LocateMethod.SPHERE,
+    drop_small: bool = True,
 ) -> LocatedBalls:
-    """The balls on a fitted table, located (:func:`locate_balls`).
+    """The balls on a fitted table, located (:func:`locate_balls`; ``drop_small`` as there).
 
     The raw detections on its playing surface (:func:`on_the_table`) are post-processed again for the ball set
     (:func:`clean_detections_for_set`), so that the cue ball and the 8 are claimed among the balls in play: a
@@ -509,7 +512,7 @@ def balls_in_play(
     one_per_table = in_play.is_ball & np.isin(in_play.class_id, ONE_PER_TABLE)
     if np.any(one_per_table & (in_play.confidence < MIN_CONFIDENCE[in_play.class_id])):
         in_play = det
-    return locate_balls(fit.camera, in_play, spec, method, diamond_z=fit.diamond_z)
+    return locate_balls(fit.camera, in_play, spec, method, diamond_z=fit.diamond_z, drop_small=drop_small)
 
 
 def no_cue_ball_reason(detections: Detections) -> str:

@@ -30,7 +30,8 @@ replays run over the cue ball's own pocket windows.
 
 Simulators with a lean batch API (``simulate_arrays``, the ``event`` backend) are called in batches;
 others shot by shot. ``time_budget`` [s] stops the search early (results then depend on timing; set it to
-``None`` for reproducible evaluations).
+``None`` for reproducible evaluations); ``stroke_budget`` stops it after that many simulated strokes, the same on
+any machine.
 """
 
 from __future__ import annotations
@@ -89,6 +90,8 @@ class SearchConfig:
             best ``endgame_candidates`` hitpoints are also tried with the endgame stroke set (with a
             ``time_budget``, only while at least half of it is left).
         time_budget: wall-clock limit per decision [s], ``None`` for none.
+        stroke_budget: limit on the strokes simulated per decision, ``None`` for none; checked where the time budget
+            is, but the same decision on any machine (a budget of work, not of seconds).
         rules: what counts as a successful stroke: ``8ball`` (a legal pot: own ball first, no scratch, the
             8 only when it wins), ``blackball`` (the same, and no opponent's ball down: WEPF rules,
             :mod:`pix2pockets.rules.blackball`) or ``paper`` (the paper's judgement: own balls drop and neither the
@@ -131,6 +134,7 @@ class SearchConfig:
     endgame_scale: int = 2
     rescue_below: float = 0.9
     time_budget: float | None = 0.5
+    stroke_budget: int | None = None
     rules: str = "8ball"
     two_ply: int = 3
     two_ply_top: int = 6
@@ -169,6 +173,8 @@ class SearchConfig:
             raise ValueError(f"SearchConfig.two_ply_weight must be >= 0, got {self.two_ply_weight}")
         if self.time_budget is not None and not self.time_budget > 0:
             raise ValueError(f"SearchConfig.time_budget must be positive or None, got {self.time_budget}")
+        if self.stroke_budget is not None and not self.stroke_budget > 0:
+            raise ValueError(f"SearchConfig.stroke_budget must be positive or None, got {self.stroke_budget}")
         if self.lookahead < 0:
             raise ValueError(f"SearchConfig.lookahead must be >= 0, got {self.lookahead}")
         if self.endgame < 0 or self.endgame_candidates < 1 or self.endgame_scale < 1:
@@ -242,6 +248,7 @@ class SearchPlanner:
         self.name = "search"
         self._judge = judge_for("blackball" if self.config.rules == "blackball" else "american")
         self._deadline = math.inf
+        self._strokes = 0
 
     # ------------------------------------------------------------------ api
     def suggest(
@@ -252,6 +259,7 @@ class SearchPlanner:
         rng = rng if rng is not None else np.random.default_rng(0)
         tb = cfg.time_budget
         self._deadline = time.perf_counter() + tb if tb is not None else math.inf
+        self._strokes = 0
         if layout.cue_index is None:
             raise ValueError("cannot plan a shot: the layout has no cue ball")
         sigma = max(self.noise.angle_sigma, _MIN_SIGMA)
@@ -274,18 +282,18 @@ class SearchPlanner:
             strokes += self._fan(ranked[: cfg.endgame_candidates], layout, state, sigma, True)
         lo, hi = (cfg.endgame_candidates, 2 * cfg.max_candidates) if endgame else (0, cfg.max_candidates)
         rounds = 0
-        while lo < len(ranked) and time.perf_counter() < self._deadline:
+        while lo < len(ranked) and not self._spent():
             strokes += self._fan(ranked[lo:hi], layout, state, sigma)
             lo, hi, rounds = hi, 3 * hi, rounds + 1  # widen: the next candidates, more of them
             best = max((_angle_p(s.margin, sigma) for s in strokes), default=0.0)
             if strokes and (best >= cfg.widen_below or rounds >= 2):
                 break
-        if not strokes and time.perf_counter() < self._deadline:
+        if not strokes and not self._spent():
             strokes = self._sweep(layout, state, sigma)
         if not strokes:
             return self._safety(layout, state, targets)
         verified, rest = self._verify(strokes, layout, state, z, sigma, cfg.endgame_scale if endgame else 1, replays)
-        half_left = tb is None or self._deadline - time.perf_counter() > 0.5 * tb  # the pass costs about that
+        half_left = self._half_left()  # the pass costs about that
         if not endgame and verified[0].p < cfg.rescue_below and half_left:
             # a hard shot: the finer endgame stroke set on the best hitpoints may find a safer stroke
             extra = self._fan(ranked[: cfg.endgame_candidates], layout, state, sigma, True)
@@ -304,11 +312,11 @@ class SearchPlanner:
         top = verified[: cfg.two_ply_top]
         deep: list[float | None] = []
         for s in top:
-            if time.perf_counter() > self._deadline:
+            if self._spent():
                 return verified
             values = [self._next_value(layout, state, pr, fr, sigma, z) for pr, fr in s.outcomes]
             deep.append(1.0 + cfg.two_ply_weight * float(np.mean(values)) if values else None)
-        if time.perf_counter() > self._deadline:  # the last strokes' fans may have been cut short
+        if self._spent():  # the last strokes' fans may have been cut short
             return verified
         for s, d in zip(top, deep, strict=True):
             s.deep = d
@@ -430,7 +438,7 @@ class SearchPlanner:
                 stroke.pocket = int(pocket[row, target])
             stroke.clean = 1.0 + cfg.lookahead * self._value(layout, state, pocket[row], final[row], sigma)
             out.append(stroke)
-            if time.perf_counter() > self._deadline:
+            if self._spent():
                 break
         return out
 
@@ -461,7 +469,7 @@ class SearchPlanner:
         self, strokes: list[_Stroke], layout, state, z: np.ndarray, sigma: float, keep_outcomes: bool = True
     ) -> None:
         """Noisy executions of the verified strokes with shared draws ``z``."""
-        if self.noise.is_zero or len(z) == 0 or not strokes or time.perf_counter() > self._deadline:
+        if self.noise.is_zero or len(z) == 0 or not strokes or self._spent():
             return
         shots = [self.noise.apply(s.shot, zk) for s in strokes for zk in z]
         rows = np.array([(s.angle, s.speed, s.side, s.height, s.elevation) for s in shots])
@@ -476,16 +484,28 @@ class SearchPlanner:
                     s.successes += 1
                     if keep_outcomes and self.config.two_ply and len(s.outcomes) < self.config.two_ply_outcomes:
                         s.outcomes.append((pocket[row], final[row]))
-                    if time.perf_counter() < self._deadline:
+                    if not self._spent():
                         v = self._value(layout, state, pocket[row], final[row], sigma)
                     else:
                         v = s.clean - 1.0
                     s.score += 1.0 + self.config.lookahead * v
 
     # ------------------------------------------------------------- helpers
+    def _spent(self) -> bool:
+        """Whether the decision's time or stroke budget is used up."""
+        cap = self.config.stroke_budget
+        return time.perf_counter() > self._deadline or (cap is not None and self._strokes >= cap)
+
+    def _half_left(self) -> bool:
+        """Whether at least half of each budget the decision has is left."""
+        tb, cap = self.config.time_budget, self.config.stroke_budget
+        time_left = tb is None or self._deadline - time.perf_counter() > 0.5 * tb
+        return time_left and (cap is None or self._strokes < 0.5 * cap)
+
     def _run(self, layout: TableLayout, rows: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Simulate strokes (m, 5): first contact (m,), pocket per ball (m, n), final centres (m, n, 2)."""
         sim = self.simulator
+        self._strokes += len(rows)
         if hasattr(sim, "simulate_arrays"):
             out = sim.simulate_arrays(layout, rows)
             failed = out.status != 0

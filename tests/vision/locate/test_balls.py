@@ -11,6 +11,7 @@ from pix2pockets.vision.locate.balls import (
     on_the_table,
     settle_positions,
     sphere_boxes,
+    too_small,
 )
 from pix2pockets.vision.table.fit import fit_table
 
@@ -150,3 +151,32 @@ def test_linear_baseline_follows_the_fitted_diamond_height():
     stale = locate_balls(moved.camera, det, SPEC, LocateMethod.LINEAR).positions
     np.testing.assert_allclose(follows, same, atol=1e-6)
     assert np.abs(stale - same).max() > 1e-3
+
+
+def test_a_detection_too_small_for_a_ball_there_is_dropped():
+    cam = VIEWS["45"]
+    R = SPEC.ball_radius
+    rng = np.random.default_rng(5)
+    layout = random_layout(rng, list(range(8)), SPEC)
+    det = analytic_detections(cam, layout)
+    fit = fit_table(det, cam.image_size, SPEC)
+    speck_box = sphere_boxes(cam, np.array([[1.5, 0.9, R]]), R)[0]
+    centre, half = (speck_box[:2] + speck_box[2:]) / 2, (speck_box[2:] - speck_box[:2]) / 2
+    speck = Detections(np.concatenate([centre - 0.4 * half, centre + 0.4 * half])[None], np.ones(1), np.array([2]))
+    loc = locate_balls(fit.camera, Detections.concatenate([det, speck]), SPEC)
+    assert len(loc.positions) == len(layout) and loc.dropped == 1
+    kept = locate_balls(fit.camera, Detections.concatenate([det, speck]), SPEC, drop_small=False)
+    assert len(kept.positions) == len(layout) + 1
+
+
+def test_every_ball_looking_small_is_a_table_of_another_size_not_specks():
+    cam = VIEWS["45"]
+    rng = np.random.default_rng(6)
+    layout = random_layout(rng, list(range(8)), SPEC)
+    det = analytic_detections(cam, layout)
+    fit = fit_table(det, cam.image_size, SPEC)
+    balls = det[det.is_ball]
+    centre, half = (balls.boxes[:, :2] + balls.boxes[:, 2:]) / 2, (balls.boxes[:, 2:] - balls.boxes[:, :2]) / 2
+    small = Detections(np.hstack([centre - 0.5 * half, centre + 0.5 * half]), balls.confidence, balls.class_id)
+    assert not too_small(fit.camera, small.boxes, layout.positions, SPEC).any()
+    assert len(locate_balls(fit.camera, small, SPEC).positions) == len(layout)

@@ -73,3 +73,23 @@ def test_no_fit_error_is_none_and_errors_are_capped():
     huge = position_sigmas(position_covariances(cam, BALLS, R, 1e4))
     np.testing.assert_allclose(huge, MAX_POSITION_SIGMA)
     assert position_covariances(cam, np.zeros((0, 2)), R, 1.0).shape == (0, 2, 2)
+
+
+def test_a_box_cut_by_something_unseen_widens_its_ball_along_that_axis():
+    cam = top_view()  # image y runs across the table here
+    cov = position_covariances(cam, BALLS, R, 0.0)
+    cut = position_covariances(cam, BALLS, R, 0.0, np.array([[0.0, 0.0], [0.0, 8.0], [0.0, 0.0]]))
+    np.testing.assert_allclose(cut[[0, 2]], cov[[0, 2]])
+    expected = numeric_covariance(cam, BALLS[1:2], np.hypot(BALL_CENTRE_SIGMA_PX, 0.0))
+    m = np.linalg.inv(
+        np.stack(
+            [
+                (cam.project_table(BALLS[1:2] + 1e-6 * e, R) - cam.project_table(BALLS[1:2], R)) / 1e-6
+                for e in np.eye(2)
+            ],
+            axis=-1,
+        )
+    )[0]
+    expected = expected[0] + m @ np.diag([0.0, 4.0**2]) @ m.T
+    np.testing.assert_allclose(cut[1], expected, rtol=1e-4)
+    assert position_sigmas(cut)[1] > 3 * position_sigmas(cov)[1]

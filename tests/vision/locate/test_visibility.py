@@ -3,7 +3,7 @@ import numpy as np
 from pix2pockets.geometry import TableSpec
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.vision.locate.balls import locate_sphere, sphere_boxes
-from pix2pockets.vision.locate.visibility import visible_boxes
+from pix2pockets.vision.locate.visibility import unexplained_shortfall, visible_boxes
 
 SPEC = TableSpec()
 R = SPEC.ball_radius
@@ -81,3 +81,14 @@ def test_partly_hidden_balls_are_located_from_the_edges_they_show():
     err_without = np.linalg.norm(without - centres[:, :2], axis=1)
     assert np.all(err < 0.003)
     assert err_without[1] > 0.01 and err_without[2] > 0.01  # the box centre is not the ball's
+
+
+def test_a_box_cut_by_nothing_in_view_is_short_by_what_is_missing():
+    centres = np.array([[1.0, 0.6, R], [1.0 + 2.05 * R, 0.6 + 0.2 * R, R], [1.6, 0.3, R]])
+    boxes = raster_boxes(LOW, centres)  # the second ball's bottom hidden by the first: explained
+    boxes[2, 1] += 0.5 * (boxes[2, 3] - boxes[2, 1])  # the third's top half under a cue: not explained
+    short = unexplained_shortfall(LOW, boxes, centres[:, :2], R, SPEC)
+    assert np.all(short[:2] == 0.0)
+    assert short[2, 0] == 0.0
+    size = boxes[2, 3] - boxes[2, 1]
+    assert 0.6 * size < short[2, 1] < 1.0 * size  # half its height, less the slack

@@ -10,7 +10,9 @@ of the table-to-image Jacobian at the ball centre's height), a 2 x 2 covariance
 
 A fitted table is surer than any one of its cues (it averages over them), hence the share. The floor stands for what
 no pixel shows (a ball's true radius, cloth that is not flat). A shaky fit (a large ``rms_px``) or a far ball thus
-widens the spread of positions that a shot's chance is measured over.
+widens the spread of positions that a shot's chance is measured over. A ball whose box falls short of the part
+of it that should be in view (a cue or a hand over it: what hides it is not modelled, so neither is the side) adds
+half the shortfall ``s_i`` per image axis, ``J_i diag((s_i / 2)**2) J_i^T``.
 
 Example:
     >>> cov = position_covariances(fit.camera, layout.positions, spec.ball_radius, fit.rms_px)  # doctest: +SKIP
@@ -40,7 +42,13 @@ MAX_POSITION_SIGMA = 0.05
 """Largest position error per axis [m]: beyond a ball's diameter the table fit, not the ball, is in doubt."""
 
 
-def position_covariances(camera: PinholeCamera, xy: np.ndarray, height: float, rms_px: float | None) -> np.ndarray:
+def position_covariances(
+    camera: PinholeCamera,
+    xy: np.ndarray,
+    height: float,
+    rms_px: float | None,
+    shortfall_px: np.ndarray | None = None,
+) -> np.ndarray:
     """Each ball's position covariance on the table (n, 2, 2) [m^2].
 
     Args:
@@ -48,6 +56,9 @@ def position_covariances(camera: PinholeCamera, xy: np.ndarray, height: float, r
         xy: ball centres on the table (n, 2) [m].
         height: height of the ball centres above the cloth [m] (the ball radius).
         rms_px: the fit's reprojection error [px] (``None`` or not finite: 0).
+        shortfall_px: per ball and image axis, how much of it something the photo does not explain hides (n, 2)
+            [px] (:func:`~pix2pockets.vision.locate.visibility.unexplained_shortfall`): its centre there is unsure
+            by half of it more, on a side not known.
     """
     xy = np.asarray(xy, dtype=float).reshape(-1, 2)
     fit_px = float(rms_px) if rms_px is not None and math.isfinite(rms_px) else 0.0
@@ -61,7 +72,11 @@ def position_covariances(camera: PinholeCamera, xy: np.ndarray, height: float, r
     cov = np.full((len(xy), 2, 2), np.nan)
     ok = np.isfinite(jac).all(axis=(1, 2)) & (np.abs(np.linalg.det(jac)) > 1e-12) & (w > 0)
     m_per_px = np.linalg.inv(jac[ok])
-    cov[ok] = pixel_var * m_per_px @ np.transpose(m_per_px, (0, 2, 1))
+    image_var = np.zeros((len(xy), 2))
+    if shortfall_px is not None:
+        image_var += (np.asarray(shortfall_px, dtype=float).reshape(-1, 2) / 2) ** 2
+    image_cov = (pixel_var + image_var[ok])[:, :, None] * np.eye(2)[None]
+    cov[ok] = m_per_px @ image_cov @ np.transpose(m_per_px, (0, 2, 1))
     cov[~ok] = np.eye(2) * MAX_POSITION_SIGMA**2
     cov += np.eye(2) * POSITION_FLOOR**2
     return _capped(cov)

@@ -133,3 +133,33 @@ def visible_boxes(
         out[i, :2] = np.maximum(p.min(axis=0) - cell / 2, [x1, y1])
         out[i, 2:] = np.minimum(p.max(axis=0) + cell / 2, [x2, y2])
     return out
+
+
+SHORTFALL_SLACK = 0.15
+"""Share of a ball's silhouette by which its box may fall short of the part predicted visible without counting as cut:
+real ball boxes are loose or tight by 10-15 %."""
+
+
+def unexplained_shortfall(
+    camera: PinholeCamera, boxes: np.ndarray, centres: np.ndarray, radius: float, spec: TableSpec | None = None
+) -> np.ndarray:
+    """How much shorter each ball's box is than the part of it predicted visible, per image axis (n, 2) [px], beyond
+    :data:`SHORTFALL_SLACK` of its silhouette: what hides it there (a player, a cue, the hand on the cloth) is not
+    modelled, so which side it hides is unknown and the ball's centre is unsure by up to half of it.
+
+    Args:
+        camera: the camera.
+        boxes: the balls' boxes (n, 4) [px].
+        centres: the balls' located centres in the table frame (n, 2) [m].
+        radius: ball radius [m].
+        spec: the table whose cushions hide balls beside them.
+    """
+    from pix2pockets.vision.locate.balls import sphere_boxes  # balls imports this module
+
+    boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
+    xyz = np.column_stack([np.asarray(centres, dtype=float).reshape(-1, 2), np.full(len(boxes), radius)])
+    silhouettes = sphere_boxes(camera, xyz, radius)
+    seen = visible_boxes(camera, xyz, radius, silhouettes, spec)
+    short = (seen[:, 2:] - seen[:, :2]) - (boxes[:, 2:] - boxes[:, :2])
+    short -= SHORTFALL_SLACK * (silhouettes[:, 2:] - silhouettes[:, :2])
+    return np.where(np.isfinite(short), np.maximum(short, 0.0), 0.0)
