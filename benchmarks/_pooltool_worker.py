@@ -35,7 +35,9 @@ def main() -> None:
     p = cfg["params"]
     base = default_resolver()
     resolver = Resolver(
-        ball_ball=FrictionalInelastic(friction=AlciatoreBallBallFriction(a=0.0, b=0.0, c=0.0)),
+        ball_ball=FrictionalInelastic(
+            friction=AlciatoreBallBallFriction() if cfg.get("ball_friction") else AlciatoreBallBallFriction(0, 0, 0)
+        ),
         ball_linear_cushion=ImpulseFrictionalInelasticLinear(),
         ball_circular_cushion=ImpulseFrictionalInelasticCircular(),
         ball_pocket=base.ball_pocket,
@@ -54,7 +56,7 @@ def main() -> None:
         u_s=p["mu_slide"],
         u_r=p["mu_roll"],
         u_sp_proportionality=p["spin_per_metre"],
-        u_b=1e-9,  # pooltool requires > 0; unused by the zero-friction ball-ball model
+        u_b=1e-9,  # pooltool requires > 0; unused by the Alciatore ball-ball friction
         e_b=p["e_ball"],
         e_c=p["e_cushion"],
         f_c=p["mu_cushion"],

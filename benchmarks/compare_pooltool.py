@@ -1,14 +1,15 @@
 """Compare the event backend with pooltool on the same random shots (optional; pooltool is not a dependency).
 
 Usage:
-    PYTHONPATH=src python benchmarks/compare_pooltool.py [--shots 300] [--json OUT.json]
+    PYTHONPATH=src python benchmarks/compare_pooltool.py [--shots 300] [--ball-friction] [--json OUT.json]
                                                          --pooltool-python venv-pooltool/bin/python
 
 pooltool 0.6.0 lives in its own venv (see docs/benchmarks-physics.md for the install). Both engines get
 the same layouts and the same initial cue-ball velocity and spin (our strike model; pooltool's cue strike
 is bypassed), the same ball constants (friction, restitution, spin friction) and the simplest matching
 collision models in pooltool: frictionless inelastic ball-ball (``FrictionalInelastic`` with zero
-friction, ``e_b`` = 0.95) and ``impulse_frictional_inelastic`` cushions. The tables differ in pocket
+friction, ``e_b`` = 0.95; with ``--ball-friction`` its Alciatore friction fit, which ours follows then) and
+``impulse_frictional_inelastic`` cushions. The tables differ in pocket
 shape: pooltool models jaws as circular arcs and its own pocket circles; we use straight jaw faces and
 capture circles, with the same mouth widths.
 
@@ -55,13 +56,19 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--shots", type=int, default=300)
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--pooltool-python", required=True, help="python of a venv with pooltool installed")
+    parser.add_argument(
+        "--ball-friction",
+        action="store_true",
+        help="friction between the balls in both engines (ours: PhysicsParams(ball_friction=True); pooltool: "
+        "FrictionalInelastic with its AlciatoreBallBallFriction defaults, the same fit)",
+    )
     parser.add_argument("--json", type=Path, default=None)
     args = parser.parse_args(argv)
     if not Path(args.pooltool_python).exists():
         print(f"error: no pooltool interpreter at {args.pooltool_python}", file=sys.stderr)
         return 2
 
-    params = PhysicsParams()
+    params = PhysicsParams(ball_friction=args.ball_friction)
     sim = EventSimulator(params)
     cases = make_cases(args.shots, args.seed)
     spec = cases[0][0].spec
@@ -72,6 +79,7 @@ def main(argv: list[str] | None = None) -> int:
         "R": spec.ball_radius,
         "corner_mouth": spec.corner_mouth,
         "side_mouth": spec.side_mouth,
+        "ball_friction": args.ball_friction,
         "params": {
             "m": spec.ball_mass,
             "mu_slide": params.mu_slide,
@@ -135,6 +143,7 @@ def main(argv: list[str] | None = None) -> int:
     per_shot_max = np.array(per_shot_max)
     result = {
         "shots": len(ours),
+        "ball_friction": args.ball_friction,
         "pooltool_errors": errors,
         "pocketed_set_agreement": round(agree / max(n_ok, 1), 3),
         "final_position_diff_m": {  # every ball on the table in both, moved or not

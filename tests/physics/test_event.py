@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -295,6 +296,16 @@ def test_stale_kernel_cache_is_dropped(tmp_path):
     stale.write_text("x")
     cache_mod._drop_stale(tmp_path)  # stamp matches now: kept
     assert stale.exists()
+
+
+def test_every_kernel_module_stamps_the_cache():
+    """A compiled kernel inlines the helpers of other modules, so an edit to any module holding kernels (or to the
+    constants they read) must drop the cache: each must be in the stamp."""
+    here = Path(cache_mod.__file__).parent
+    kernels = {
+        p.stem for p in here.glob("*.py") if any(line.startswith("@njit") for line in p.read_text().splitlines())
+    }
+    assert kernels | {"params"} <= set(cache_mod._KERNEL_MODULES)
 
 
 def _two_balls() -> TableLayout:

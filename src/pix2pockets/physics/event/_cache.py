@@ -14,7 +14,9 @@ import tempfile
 from pathlib import Path
 
 _HERE = Path(__file__).resolve().parent
-_KERNEL_MODULES = ("_roots", "_motion", "_detect", "_engine", "params")
+_KERNEL_MODULES = ("_balls", "_roots", "_motion", "_impact", "_detect", "_engine", "params")
+"""Every module of the compiled kernels (``@njit``) and the constants they read: an edit to any of them drops the
+cache."""
 _STAMP = "pix2pockets-event-kernels.stamp"
 
 

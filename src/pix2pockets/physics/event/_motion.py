@@ -24,6 +24,8 @@ from numba import njit
 
 from pix2pockets.physics.event._balls import cushion_sin_of, mass_of, radius_of
 from pix2pockets.physics.event.params import (
+    BALL_FRICTION_FIT,
+    P_BALL_FRICTION,
     P_E_BALL,
     P_E_CUSHION,
     P_G,
@@ -216,6 +218,8 @@ def collide_balls(i, j, pos, vel, w, prm) -> int:
         vel[i, 1] -= jn * share_i * ny
         vel[j, 0] += jn * share_j * nx
         vel[j, 1] += jn * share_j * ny
+        if prm[P_BALL_FRICTION] > 0.0:
+            _throw(i, j, nx, ny, jn * mi * share_i, vel, w, prm)
         return COLLIDE_BOUNCE
     if math.hypot(dvx, dvy) < settle:
         return COLLIDE_LOCK
@@ -227,6 +231,49 @@ def collide_balls(i, j, pos, vel, w, prm) -> int:
     _drop_normal_slip(i, nx, ny, w)
     _drop_normal_slip(j, nx, ny, w)
     return COLLIDE_NUDGE
+
+
+@njit(cache=True)
+def _throw(i, j, nx, ny, impulse, vel, w, prm) -> None:
+    """Friction at a ball-ball impact whose normal impulse is ``impulse`` [relative mass x m/s] along ``(nx, ny)``
+    from ball ``i`` to ball ``j``.
+
+    The contact points slip with the relative surface velocity ``s`` (centres and spins, 3-D, less its part along
+    the normal). A tangential impulse against it, ``min(mu |J_n|, |s| / (7/2 (1/m_i + 1/m_j)))`` (Coulomb friction,
+    capped at what stops the slip: each sphere's contact point moves ``7/2`` times as far per impulse as its centre,
+    ``1/m + R^2/I``), changes the balls' velocities in the table plane (the cloth takes the vertical part) and their
+    spins in full. ``mu`` falls with the slip speed (:data:`~pix2pockets.physics.event.params.BALL_FRICTION_FIT`).
+    Momentum in the plane is kept; energy is only lost.
+    """
+    ri, rj = radius_of(prm, i), radius_of(prm, j)
+    mi, mj = mass_of(prm, i), mass_of(prm, j)
+    # surface velocity of each ball at the contact: v + w x r, r = R n for i and -R n for j
+    six = vel[i, 0] - w[i, 2] * ri * ny - (vel[j, 0] + w[j, 2] * rj * ny)
+    siy = vel[i, 1] + w[i, 2] * ri * nx - (vel[j, 1] - w[j, 2] * rj * nx)
+    siz = ri * (w[i, 0] * ny - w[i, 1] * nx) + rj * (w[j, 0] * ny - w[j, 1] * nx)
+    along = six * nx + siy * ny
+    tx, ty, tz = six - along * nx, siy - along * ny, siz
+    slip = math.sqrt(tx * tx + ty * ty + tz * tz)
+    if slip < EPS_SLIP:
+        return
+    a, b, c = BALL_FRICTION_FIT
+    mu = a + b * math.exp(-c * slip)
+    p = min(mu * impulse, slip / (3.5 * (1.0 / mi + 1.0 / mj)))
+    tx, ty, tz = tx / slip, ty / slip, tz / slip
+    vel[i, 0] -= p * tx / mi
+    vel[i, 1] -= p * ty / mi
+    vel[j, 0] += p * tx / mj
+    vel[j, 1] += p * ty / mj
+    # n x t: the spin each impulse gives; r_i x (-p t) = -p R_i (n x t), r_j x (p t) = -p R_j (n x t)
+    cx, cy, cz = ny * tz, -nx * tz, nx * ty - ny * tx
+    ki = p / (0.4 * mi * ri)
+    kj = p / (0.4 * mj * rj)
+    w[i, 0] -= ki * cx
+    w[i, 1] -= ki * cy
+    w[i, 2] -= ki * cz
+    w[j, 0] -= kj * cx
+    w[j, 1] -= kj * cy
+    w[j, 2] -= kj * cz
 
 
 @njit(cache=True)

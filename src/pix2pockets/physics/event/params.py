@@ -11,12 +11,17 @@ import numpy as np
 P_MU_SLIDE, P_MU_ROLL, P_MU_SPIN, P_E_BALL, P_E_CUSHION, P_MU_CUSHION, P_G, P_R = range(8)
 P_V_SETTLE = 8
 P_CUSHION_SIN = 9  # sine of the angle between the cushion contact normal and the table plane
-N_PARAMS = 10
+P_BALL_FRICTION = 10  # 1.0: ball-ball friction (throw), 0.0: frictionless ball-ball impacts
+N_PARAMS = 11
 BALL_FIELDS = 3
 """Entries per ball in the optional per-ball block after the ``N_PARAMS`` shared ones: radius [m], mass relative
 to an object ball [-] and the sine of its cushion contact tilt (:func:`ball_block`). Without the block every ball
 has ``P_R``, mass 1 and ``P_CUSHION_SIN``."""
 B_RADIUS, B_MASS, B_CUSHION_SIN = range(BALL_FIELDS)
+
+BALL_FRICTION_FIT = (9.951e-3, 0.108, 1.088)
+"""``(a, b, c)`` of the ball-ball friction coefficient ``a + b exp(-c v)`` at contact slip speed ``v`` [m/s]
+(Alciatore, TP A-14)."""
 
 SPIN_FRICTION_PER_METRE = 10.0 * 2.0 / (5.0 * 9.0)
 """pooltool's spinning-friction proportionality [1/m]: ``mu_spin = SPIN_FRICTION_PER_METRE * R``."""
@@ -36,6 +41,11 @@ class PhysicsParams:
         e_cushion: ball-cushion (and jaw) coefficient of restitution [-] (0.85).
         mu_cushion: ball-cushion Coulomb friction coefficient [-] (0.2).
         g: gravitational acceleration [m/s^2] (9.81).
+        ball_friction: friction between the balls at an impact (throw: a cut throws the object ball off the line of
+            centres by up to a few degrees, spin is passed between the balls), with the coefficient falling with
+            the slip speed ``v`` at the contact [m/s] as Alciatore's fit to measured throw,
+            ``0.00995 + 0.108 exp(-1.088 v)`` (``BALL_FRICTION_FIT``); off by default, the frictionless impact the
+            shipped benchmarks and agents were measured and trained on.
         settle_speed: a cushion or ball-ball impact slower than this is perfectly inelastic along the
             normal and also loses the spin that would drive the ball back into the contact [m/s]. It
             ends the otherwise endless sequence of ever-smaller bounces of a ball pressed into a rail.
@@ -47,6 +57,8 @@ class PhysicsParams:
         https://pooltool.readthedocs.io (Ball parameters; "spinning friction" proportionality);
         W. Leckie and M. Greenspan, "An event-based pool physics simulator", Advances in Computer
         Games 11, 2006 (the sliding/rolling/spinning motion equations used here);
+        D. Alciatore, "Technical proof A-14: ball-ball collision throw" (billiards.colostate.edu/technical_proofs,
+        TP A-14), for the ball-ball friction fit;
         R. Kolbe, "Billiards physics" notes / Alciatore, "The Illustrated Principles of Pool and
         Billiards" (2004) for the typical 0.2 / 0.01 friction and 0.95 restitution values.
     """
@@ -58,6 +70,7 @@ class PhysicsParams:
     e_cushion: float = 0.85
     mu_cushion: float = 0.2
     g: float = 9.81
+    ball_friction: bool = False
     settle_speed: float = 1e-3
     max_events: int = 20_000
 
@@ -74,6 +87,8 @@ class PhysicsParams:
             value = getattr(self, name)
             if not 0.0 <= value <= 1.0:
                 raise ValueError(f"PhysicsParams.{name} must be in [0, 1], got {value!r}")
+        if not isinstance(self.ball_friction, bool):
+            raise ValueError(f"PhysicsParams.ball_friction must be True or False, got {self.ball_friction!r}")
         if int(self.max_events) != self.max_events or self.max_events < 10:
             raise ValueError(f"PhysicsParams.max_events must be an integer >= 10, got {self.max_events!r}")
 
@@ -100,6 +115,7 @@ class PhysicsParams:
         out[P_R] = ball_radius
         out[P_V_SETTLE] = self.settle_speed
         out[P_CUSHION_SIN] = cushion_sine(ball_radius, cushion_height)
+        out[P_BALL_FRICTION] = 1.0 if self.ball_friction else 0.0
         return out
 
     def packed_balls(

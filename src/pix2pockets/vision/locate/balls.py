@@ -221,8 +221,8 @@ def locate_balls(
 MIN_BALL_SHARE = 0.6
 """A detection whose box is, on both image axes, under this share of the part of a ball predicted visible where it
 lies (measured against the photo's median ball) is no ball: a chalk mark, a speck of the cloth, a far reflection. On
-150 renders of each set and the real photos whose balls were labelled by eye it drops 31 of the 209 detections on the
-fitted tables that box no ball, and 1 of the 2,532 that do."""
+150 renders of each set and the real photos whose balls were labelled by eye it drops 27 of the 209 detections on the
+fitted tables that box no ball, and 1 of the 2,532 that box one (``benchmarks/ball_size_check.py``)."""
 
 MIN_BALLS_FOR_SHARE = 3
 """Balls needed for the photo's median ball size, against which :func:`too_small` measures."""
