@@ -29,6 +29,7 @@ from pix2pockets.state.ball import Ball
 from pix2pockets.state.layout import TableLayout
 from pix2pockets.vision.classes import ball_class_of
 from pix2pockets.vision.detect.detections import Detections
+from pix2pockets.vision.locate.visibility import sphere_boxes, visible_boxes, visible_parts
 from pix2pockets.vision.table.fit import diamond_height
 
 
@@ -36,29 +37,6 @@ class LocateMethod(StrEnum):
     SPHERE = "sphere"
     CONTACT = "contact"
     LINEAR = "linear"
-
-
-def sphere_boxes(camera: PinholeCamera, centres: np.ndarray, radius: float) -> np.ndarray:
-    """Bounding boxes [px] ``x1, y1, x2, y2`` of the images of spheres, (n, 4).
-
-    Args:
-        camera: the camera.
-        centres: sphere centres in the table frame (n, 3) [m].
-        radius: sphere radius [m].
-    """
-    C = camera.world_to_camera(np.asarray(centres, dtype=float).reshape(-1, 3))
-    K = camera.K
-    # dual conic of the silhouette: K (C C^T - R^2 I) K^T, per sphere
-    Q = C[:, :, None] * C[:, None, :] - radius**2 * np.eye(3)[None]
-    D = K[None] @ Q @ K.T[None]
-    out = np.empty((len(C), 4))
-    for axis in (0, 1):
-        a, b, c = D[:, axis, axis], D[:, axis, 2], D[:, 2, 2]
-        disc = np.sqrt(np.clip(b * b - a * c, 0.0, None))
-        lo, hi = (b - disc) / c, (b + disc) / c
-        out[:, axis] = np.minimum(lo, hi)
-        out[:, axis + 2] = np.maximum(lo, hi)
-    return out
 
 
 def _box_centres(boxes: np.ndarray) -> np.ndarray:
@@ -98,8 +76,6 @@ def locate_sphere(
     balls, the cushions of ``spec`` and the image border hide parts of it) stops short of its silhouette. A box cut
     on both sides of an axis uses its centre there.
     """
-    from pix2pockets.vision.locate.visibility import visible_boxes
-
     boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
     if len(boxes) == 0:
         return np.zeros((0, 2))
@@ -234,14 +210,10 @@ def too_small(camera: PinholeCamera, boxes: np.ndarray, xy: np.ndarray, spec: Ta
     what other balls, the cushions and the frame hide of it left out), each axis's share divided by the median over
     the photo's balls of their larger share (a table of the wrong size makes every ball look too small or too big
     alike). None with fewer than :data:`MIN_BALLS_FOR_SHARE` balls."""
-    from pix2pockets.vision.locate.visibility import visible_boxes
-
     boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
     if len(boxes) < MIN_BALLS_FOR_SHARE:
         return np.zeros(len(boxes), dtype=bool)
-    R = spec.ball_radius
-    centres = np.column_stack([np.asarray(xy, dtype=float).reshape(-1, 2), np.full(len(boxes), R)])
-    seen = visible_boxes(camera, centres, R, sphere_boxes(camera, centres, R), spec)
+    _, seen = visible_parts(camera, xy, spec.ball_radius, spec)
     with np.errstate(invalid="ignore", divide="ignore"):
         share = (boxes[:, 2:] - boxes[:, :2]) / (seen[:, 2:] - seen[:, :2])
     larger = np.max(share, axis=1)

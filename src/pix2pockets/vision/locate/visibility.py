@@ -1,5 +1,5 @@
-"""What the camera sees of each ball: its silhouette less what the balls in front, the near cushions and the
-image border hide.
+"""What the camera sees of each ball: its silhouette (:func:`sphere_boxes`, in closed form) less what the balls in
+front, the near cushions and the image border hide (:func:`visible_boxes`).
 
 A ball behind another ball, or beside the cushion nearest the camera in a low view, shows only part of its
 silhouette, and its box stops where the part hidden begins. :func:`visible_boxes` predicts those boxes by casting a
@@ -14,6 +14,30 @@ import numpy as np
 
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.table import TableSpec
+
+
+def sphere_boxes(camera: PinholeCamera, centres: np.ndarray, radius: float) -> np.ndarray:
+    """Bounding boxes [px] ``x1, y1, x2, y2`` of the images of spheres, (n, 4).
+
+    Args:
+        camera: the camera.
+        centres: sphere centres in the table frame (n, 3) [m].
+        radius: sphere radius [m].
+    """
+    C = camera.world_to_camera(np.asarray(centres, dtype=float).reshape(-1, 3))
+    K = camera.K
+    # dual conic of the silhouette: K (C C^T - R^2 I) K^T, per sphere
+    Q = C[:, :, None] * C[:, None, :] - radius**2 * np.eye(3)[None]
+    D = K[None] @ Q @ K.T[None]
+    out = np.empty((len(C), 4))
+    for axis in (0, 1):
+        a, b, c = D[:, axis, axis], D[:, axis, 2], D[:, 2, 2]
+        disc = np.sqrt(np.clip(b * b - a * c, 0.0, None))
+        lo, hi = (b - disc) / c, (b + disc) / c
+        out[:, axis] = np.minimum(lo, hi)
+        out[:, axis + 2] = np.maximum(lo, hi)
+    return out
+
 
 RAY_GRID = 32
 """Rays across each side of a ball's silhouette box: a cell of about 1 px for a ball 32 px across."""
@@ -79,8 +103,7 @@ def visible_boxes(
         camera: the camera.
         centres: ball centres in the table frame (n, 3) [m].
         radius: ball radius [m].
-        silhouettes: each ball's whole silhouette box (n, 4) [px]
-            (:func:`~pix2pockets.vision.locate.balls.sphere_boxes`).
+        silhouettes: each ball's whole silhouette box (n, 4) [px] (:func:`sphere_boxes`).
         spec: the table whose cushions hide balls beside them (``None``: no cushions).
         grid: rays across each side of a silhouette box.
     """
@@ -135,6 +158,17 @@ def visible_boxes(
     return out
 
 
+def visible_parts(
+    camera: PinholeCamera, xy: np.ndarray, radius: float, spec: TableSpec | None = None
+) -> tuple[np.ndarray, np.ndarray]:
+    """The whole silhouette box and the visible box [px], each (n, 4), of balls resting on the cloth at table
+    centres ``xy`` (n, 2) [m] (:func:`sphere_boxes`, :func:`visible_boxes`)."""
+    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
+    centres = np.column_stack([xy, np.full(len(xy), radius)])
+    silhouettes = sphere_boxes(camera, centres, radius)
+    return silhouettes, visible_boxes(camera, centres, radius, silhouettes, spec)
+
+
 SHORTFALL_SLACK = 0.15
 """Share of a ball's silhouette by which its box may fall short of the part predicted visible without counting as cut:
 real ball boxes are loose or tight by 10-15 %."""
@@ -154,12 +188,8 @@ def unexplained_shortfall(
         radius: ball radius [m].
         spec: the table whose cushions hide balls beside them.
     """
-    from pix2pockets.vision.locate.balls import sphere_boxes  # balls imports this module
-
     boxes = np.asarray(boxes, dtype=float).reshape(-1, 4)
-    xyz = np.column_stack([np.asarray(centres, dtype=float).reshape(-1, 2), np.full(len(boxes), radius)])
-    silhouettes = sphere_boxes(camera, xyz, radius)
-    seen = visible_boxes(camera, xyz, radius, silhouettes, spec)
+    silhouettes, seen = visible_parts(camera, centres, radius, spec)
     short = (seen[:, 2:] - seen[:, :2]) - (boxes[:, 2:] - boxes[:, :2])
     short -= SHORTFALL_SLACK * (silhouettes[:, 2:] - silhouettes[:, :2])
     return np.where(np.isfinite(short), np.maximum(short, 0.0), 0.0)
