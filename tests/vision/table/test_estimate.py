@@ -19,7 +19,13 @@ from pix2pockets.vision.detect.analytic import analytic_detections, detections_f
 from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.locate.balls import locate_balls
 from pix2pockets.vision.table.errors import TableFitError
-from pix2pockets.vision.table.estimate import estimate_table, outline_used, surface_overlap
+from pix2pockets.vision.table.estimate import (
+    better_surface_fit,
+    edge_sides,
+    estimate_table,
+    outline_used,
+    surface_overlap,
+)
 from pix2pockets.vision.table.quad_geometry import quad_mask
 from pix2pockets.vision.table.surface import SurfaceOutline
 from tests.vision.table.test_cloth import BALLS, draw_table_photo, view
@@ -214,3 +220,67 @@ def test_a_surface_fit_holding_none_of_the_balls_is_refused():
         estimate_table(None, _balls_at(off_table), size, spec, cues="surface", surface=surface)
     two = estimate_table(None, _balls_at(off_table[:2]), size, spec, cues="surface", surface=surface)
     assert two.source == "surface"  # two stray balls are too few to overrule the outline
+
+
+def _shifted_and_true_outlines(camera: PinholeCamera, spec: TableSpec) -> tuple[np.ndarray, np.ndarray]:
+    """The playing surface's corners in the photo [px], and the same table moved 0.45 m towards the foot (a surface
+    region that leaked onto the foot rail, short of the head cushion)."""
+    return camera.project_table(spec.corners + np.array([0.45, 0.0]), 0.0), camera.project_table(spec.corners, 0.0)
+
+
+def test_of_two_surface_outlines_the_one_on_the_cloth_edges_wins():
+    """A table shifted along its length is a rectangle a camera sees, but only its long sides lie on the cloth's edge
+    in the photo. The corner peaks' outline, whose four sides all do, wins though it comes second; without the photo
+    the first outline's fit stays."""
+    spec = TableSpec()
+    camera = view("oblique")
+    size = camera.image_size
+    rgb, boxes = draw_table_photo(camera, spec)
+    shifted, truth = _shifted_and_true_outlines(camera, spec)
+    det = Detections(boxes, np.full(len(boxes), 0.9), np.full(len(boxes), 2))
+    alone = estimate_table(rgb, det, size, spec, cues="surface", surface=outline_of(shifted, size))
+    assert min(np.abs(np.roll(alone.corners_px, k, axis=0) - truth).max() for k in (0, 2)) > 20.0
+    surface = outline_of(shifted, size, alternative=outline_of(truth, size))
+    fit = estimate_table(rgb, det, size, spec, cues="surface", surface=surface)
+    assert edge_sides(rgb, fit, surface.mask, boxes) == 4
+    assert edge_sides(rgb, alone, surface.mask, boxes) < 4
+    assert min(np.abs(np.roll(fit.corners_px, k, axis=0) - truth).max() for k in (0, 2)) < 3.0
+    assert outline_used(fit, surface) is surface.alternative
+    blind = estimate_table(None, det, size, spec, cues="surface", surface=surface)
+    assert outline_used(blind, surface) is surface
+
+
+def test_a_surface_fit_on_more_cloth_edges_but_fewer_balls_loses():
+    """The second outline's fit wins on the cloth's edges only while it holds as many balls: a table drawn 15 cm
+    wider all round lies on the rails, yet it holds two balls off the true one's cloth, and stays."""
+    spec = TableSpec()
+    camera = view("oblique")
+    size = camera.image_size
+    rgb, boxes = draw_table_photo(camera, spec)
+    truth = estimate_table(
+        rgb,
+        Detections.empty(),
+        size,
+        spec,
+        cues="surface",
+        surface=outline_of(camera.project_table(spec.corners, 0.0), size),
+    )
+    grow = 0.15
+    wider = replace(spec, length=spec.length + 2 * grow, width=spec.width + 2 * grow)
+    moved = PinholeCamera(camera.K, camera.R, camera.t - camera.R @ np.array([grow, grow, 0.0]), size)
+    wide = replace(truth, spec=wider, camera=moved)
+    assert (
+        np.abs(
+            wide.camera.project_table(np.array([[grow, grow]]), 0.0) - camera.project_table(np.zeros((1, 2)), 0.0)
+        ).max()
+        < 1e-6
+    )
+    mask = quad_mask(truth.corners_px, (size[1], size[0]))
+    assert edge_sides(rgb, truth, mask, boxes) > edge_sides(rgb, wide, mask, boxes)
+    assert better_surface_fit([wide, truth], rgb, mask, boxes) is truth
+    on_rails = camera.project_table(np.array([[-0.08, 0.5], [-0.08, 0.8]]), spec.ball_radius)
+    more = np.concatenate([boxes, np.column_stack([on_rails - 8, on_rails + 8])])
+    assert better_surface_fit([wide, truth], rgb, mask, more) is wide
+    assert better_surface_fit([truth, wide], rgb, mask, more) is truth
+    assert better_surface_fit([wide, truth], None, mask, boxes) is wide
+    assert better_surface_fit([], rgb, mask, boxes) is None

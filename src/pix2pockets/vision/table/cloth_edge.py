@@ -422,6 +422,26 @@ def snap_fit(rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.nd
     return replace(fit, camera=head_rail_convention(camera, spec), cloth_edges=moved)
 
 
+def side_contrasts(
+    rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.ndarray | None = None
+) -> np.ndarray:
+    """The colour contrast across each side of a fit's cloth outline in the photo (:func:`line_contrast`, the cloth's
+    colour read as :func:`snap_fit` reads it); -inf for a side not wholly in the photo or behind the camera."""
+    spec = fit.spec
+    outline = fit.camera.project_table(outline_rectangle(spec, CUSHION_WIDTH), spec.cushion_height)
+    out = np.full(4, -math.inf)
+    if not np.all(np.isfinite(outline)):
+        return out
+    w, h = fit.camera.image_size
+    inside = (outline[:, 0] >= 0) & (outline[:, 0] <= w) & (outline[:, 1] >= 0) & (outline[:, 1] <= h)
+    colour = cloth_colour(rgb, colour_region(mask, fit), ball_boxes)
+    quad, lines = _outward_sides(outline)
+    for k in range(4):
+        if inside[k] and inside[(k + 1) % 4]:
+            out[k] = line_contrast(rgb, lines[k], quad[k], quad[(k + 1) % 4], colour)
+    return out
+
+
 def _held_out(snapped: SnappedOutline, outline: np.ndarray, fit: TableFit) -> SnappedOutline:
     """``snapped`` with each side that moved out of ``outline`` (4, 2) [px] by more than :data:`DARK_CLOTH_OUTWARD` of
     the cushion's width in the photo (between ``fit``'s playing surface and its cloth outline) put back."""

@@ -2,13 +2,14 @@
 
 The table model's playing surface (:mod:`pix2pockets.vision.table.keypoints`, outlined by
 :func:`~pix2pockets.vision.table.surface.surface_outline`: corners read to about a pixel, side pockets marking the
-long rails) gives a fit of its own, at the cushion noses on the cloth (from the corner peaks' outline, its
-``alternative``, where the region's outline gives none), which is then moved onto the cloth's edge in the photo
-(:func:`~pix2pockets.vision.table.cloth_edge.snap_fit`). Where the diamond fit agrees with it (its corners within
+long rails) gives a fit of its own, at the cushion noses on the cloth, which is then moved onto the cloth's edge in
+the photo (:func:`~pix2pockets.vision.table.cloth_edge.snap_fit`). Where the outline has a second hypothesis (its
+``alternative``, the corner peaks' own outline), both are fitted and the one more of the cloth's edges confirm wins
+(:func:`better_surface_fit`). Where the diamond fit agrees with it (its corners within
 :data:`CORNER_TOLERANCE`), the diamond fit is kept (``"diamonds+surface"``). Where they disagree, a diamond fit whose
 playing surface overlaps the model's surface region far less (:data:`SURFACE_OVERLAP_MARGIN`) loses, else the fit that
 explains more diamonds and balls wins (``"diamonds"`` or ``"surface"``). A surface fit that holds none of three or more
-sure balls (:data:`MIN_BALLS_HELD`) is refused, and the corner peaks' outline tried in its place.
+sure balls (:data:`MIN_BALLS_HELD`) is refused.
 
 Without a surface, :func:`estimate_table` fits the table from the diamonds
 (:func:`~pix2pockets.vision.table.fit.fit_table`, the rail sights) and from the cloth
@@ -35,7 +36,7 @@ import numpy as np
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.table.cloth import ClothOutline, find_cloth
-from pix2pockets.vision.table.cloth_edge import snap_fit
+from pix2pockets.vision.table.cloth_edge import side_contrasts, snap_fit
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.fit import TableFit, diamond_height, fit_table
 from pix2pockets.vision.table.outline_camera import CUSHION_WIDTH, outline_rectangle
@@ -66,6 +67,10 @@ MIN_CONFIDENCE_WITHOUT_BALLS = 0.3
 MIN_BALLS_HELD = 3
 """A surface fit on none of the photo's balls is refused when there are at least this many (a sliver of a table
 fitted to one cushion seen close up)."""
+EDGE_CONTRAST = 1.0
+"""Colour contrast across a side (:func:`~pix2pockets.vision.table.cloth_edge.line_contrast`) that puts it on the
+cloth's edge (on the real photos labelled, sides on the edge read 1.1-5.8, sides of a region that leaked onto a
+rail 0-0.8)."""
 SIDE_POCKET_DARKNESS = 40.0
 """A side-pocket peak of the table model weighs as a side this much darker mid-way (Lab lightness) in the outline
 fit's choice of the long rails."""
@@ -205,7 +210,8 @@ def estimate_table(
             reasons.append(f"diamonds: {_reason(err)}")
     surface_fit: TableFit | None = None
     if cues in ("surface", "all") and surface is not None:
-        for outline in (surface, surface.alternative):  # the outline, else its second hypothesis
+        found_fits: list[TableFit] = []
+        for outline in (surface, surface.alternative):  # the outline and its second hypothesis
             if outline is None:
                 continue
             try:
@@ -226,8 +232,8 @@ def estimate_table(
                 if outline is surface:
                     reasons.append(f"surface: its table holds none of the {len(sure)} balls")
                 continue
-            surface_fit = found
-            break
+            found_fits.append(found)
+        surface_fit = better_surface_fit(found_fits, rgb, surface.mask, sure.boxes)
     if surface_fit is not None:
         for fit in fits:  # a diamond fit on the surface's corners is the sharper of the two
             if corner_gap(fit.corners_px, surface_fit.corners_px) <= CORNER_TOLERANCE * math.hypot(*image_size):
@@ -274,6 +280,33 @@ def estimate_table(
     if scores[0].corners >= 3:  # the diamonds' table lies on the cloth outline too
         return replace(diamond_fit, source="diamonds+cloth")
     return diamond_fit if scores[0].total >= scores[1].total else cloth_fit
+
+
+def better_surface_fit(
+    fits: list[TableFit], rgb: np.ndarray | None, mask: np.ndarray, ball_boxes: np.ndarray
+) -> TableFit | None:
+    """Of the surface fits from an outline and from its second hypothesis (in that order), the one with more sides on
+    the cloth's edge in the photo (:func:`edge_sides`: a side the surface region leaked past, onto a rail or a
+    player, lies on none) while it holds as many of the balls ``ball_boxes`` (n, 4) [px]; ties, and fits without the
+    photo, keep the outline's. ``mask``: the surface region (H, W) bool. None without a fit."""
+    if not fits:
+        return None
+    best = fits[0]
+    if rgb is None:
+        return best
+    centres = (ball_boxes[:, :2] + ball_boxes[:, 2:]) / 2 if len(ball_boxes) else np.zeros((0, 2))
+    best_edges = edge_sides(rgb, best, mask, ball_boxes)
+    for fit in fits[1:]:
+        edges = edge_sides(rgb, fit, mask, ball_boxes)
+        if edges > best_edges and balls_on_table(fit, centres) >= balls_on_table(best, centres):
+            best, best_edges = fit, edges
+    return best
+
+
+def edge_sides(rgb: np.ndarray, fit: TableFit, mask: np.ndarray, ball_boxes: np.ndarray) -> int:
+    """How many sides of a fit's cloth outline lie on the cloth's edge in the photo: the colour across them leaves
+    the cloth's by at least :data:`EDGE_CONTRAST` (:func:`~pix2pockets.vision.table.cloth_edge.side_contrasts`)."""
+    return int((side_contrasts(rgb, fit, mask, ball_boxes) >= EDGE_CONTRAST).sum())
 
 
 def shows_a_table(outline: SurfaceOutline) -> bool:
