@@ -27,7 +27,7 @@ from pix2pockets.vision.table.estimate import (
     surface_overlap,
 )
 from pix2pockets.vision.table.quad_geometry import quad_mask
-from pix2pockets.vision.table.surface import SurfaceOutline
+from pix2pockets.vision.table.surface import SurfaceOutline, surface_outline
 from tests.vision.table.test_cloth import BALLS, draw_table_photo, view
 
 LABELS = json.loads(Path(example_labels_path()).read_text())
@@ -284,3 +284,25 @@ def test_a_surface_fit_on_more_cloth_edges_but_fewer_balls_loses():
     assert better_surface_fit([truth, wide], rgb, mask, more) is truth
     assert better_surface_fit([wide, truth], None, mask, boxes) is wide
     assert better_surface_fit([], rgb, mask, boxes) is None
+
+
+def test_a_close_view_across_the_table_is_fitted_from_its_two_long_cushions():
+    """Only the two long cushions are in view, each with its side pocket: the surface outline shows two cushions
+    (no rectangle from it), and the table comes from the two lines and the pockets."""
+    from tests.vision.table.test_surface import IMAGE, _with_peaks, cues_of
+
+    spec = TableSpec()
+    camera = PinholeCamera.look_at(np.array([1.2, -0.7, 0.6]), np.array([1.25, 0.5, 0.0]), 0.9 * IMAGE[0], IMAGE)
+    corners = camera.project_table(spec.corners, 0.0)
+    pockets_xy = np.array([[spec.length / 2, 0.0], [spec.length / 2, spec.width]])
+    pockets = camera.project_table(pockets_xy, 0.0)
+    assert not any(0 <= x <= IMAGE[0] and 0 <= y <= IMAGE[1] for x, y in corners)
+    surface = surface_outline(_with_peaks(cues_of(corners), np.zeros((0, 2)), pockets))
+    with pytest.raises(TableFitError, match="2 cushions"):
+        estimate_table(None, Detections.empty(), IMAGE, spec, cues="surface", surface=replace(surface, cues=None))
+    fit = estimate_table(None, Detections.empty(), IMAGE, spec, cues="surface", surface=surface)
+    assert fit.source == "surface"
+    probes = np.array([[spec.length / 2, 0.0], [spec.length / 2, spec.width], [1.0, 0.6], [1.6, 0.9]])
+    xy = fit.image_to_table(camera.project_table(probes, 0.0), 0.0)
+    turned = np.column_stack([spec.length - xy[:, 0], spec.width - xy[:, 1]])
+    assert min(np.abs(xy - probes).max(), np.abs(turned - probes).max()) < 0.03

@@ -16,8 +16,11 @@ from pix2pockets.vision.table.outline_camera import (
     outline_rectangle,
     rectangle_cost,
 )
-from pix2pockets.vision.table.outline_fit import fit_outline
+from pix2pockets.vision.table.outline_fit import fit_outline, fit_two_cushions
+from pix2pockets.vision.table.quad_geometry import quad_mask
 from pix2pockets.vision.table.table_size import spec_of_length
+from pix2pockets.vision.table.two_cushions import CushionMark
+from tests.vision.table.test_two_cushions import across_view, seen
 
 SPEC = TableSpec()
 BALLS = np.array([[0.6, 0.4], [1.9, 0.9], [1.2, 0.6], [0.3, 1.0], [2.2, 0.2], [1.5, 1.1]])
@@ -179,3 +182,40 @@ def test_a_size_from_the_balls_snaps_to_a_table_for_balls_of_that_size():
     uk = table_preset("uk7")
     assert spec_of_length(2.10, uk).name == "uk7" and spec_of_length(1.85, uk).name == "uk6"
     assert spec_of_length(2.13).name == "7ft"  # American balls: the American presets only (uk7 is 2.13 m)
+
+
+def test_two_long_cushions_with_their_pockets_and_a_corner_give_the_table():
+    """A close view across the table: the two long cushions, both side pockets and a far corner fix the table and
+    the focal length; the balls on it and the cloth agree."""
+    camera = across_view()
+    corners, near, far, pockets = seen(camera)
+    marks = [
+        CushionMark(pockets[0], 0, "pocket"),
+        CushionMark(pockets[1], 1, "pocket"),
+        CushionMark(corners[2], 1, "corner"),
+    ]
+    spec = TableSpec()
+    xy = np.array([[1.2, 0.4], [1.9, 0.8], [2.3, 0.3]])
+    boxes = sphere_boxes(camera, np.column_stack([xy, np.full(len(xy), spec.ball_radius)]), spec.ball_radius)
+    mask = quad_mask(corners, (camera.image_size[1], camera.image_size[0]))
+    fit = fit_two_cushions(
+        np.array([near, far]),
+        marks,
+        camera.image_size,
+        spec,
+        ball_boxes=boxes,
+        cloth_mask=mask,
+        offset=0.0,
+        plane_z=0.0,
+    )
+    got = fit.camera.project_table(spec.corners, 0.0)
+    assert min(np.abs(np.roll(got, k, axis=0) - corners).max() for k in (0, 2)) < 1.0
+    assert fit.camera.K[1, 1] == pytest.approx(camera.K[1, 1], rel=1e-3)
+
+
+def test_two_cushions_without_a_side_pocket_and_a_second_mark_are_refused():
+    camera = across_view()
+    corners, near, far, pockets = seen(camera)
+    for marks in ([CushionMark(pockets[0], 0, "pocket")], [CushionMark(corners[2], 1, "corner")] * 2):
+        with pytest.raises(TableFitError, match="side pocket"):
+            fit_two_cushions(np.array([near, far]), marks, camera.image_size, TableSpec(), offset=0.0, plane_z=0.0)

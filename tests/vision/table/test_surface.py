@@ -12,7 +12,7 @@ from pix2pockets.vision.detect.letterbox import Letterbox
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.keypoints import N_TABLE_CHANNELS, STRIDE, TableModel, cues_from_output, pixel_of_cell
 from pix2pockets.vision.table.quad_geometry import line_through
-from pix2pockets.vision.table.surface import MAX_CUT_REGION_SHARE, surface_agreement, surface_outline
+from pix2pockets.vision.table.surface import MAX_CUT_REGION_SHARE, long_cushion_pair, surface_agreement, surface_outline
 
 IMAGE = (768, 432)  # photo (width, height) [px]; the network input is the photo itself (scale 1)
 
@@ -171,3 +171,49 @@ def test_four_peaks_that_lose_to_the_region_stay_as_the_alternative():
 def test_peaks_on_the_regions_outline_give_no_alternative():
     outline = surface_outline(cues_with_peaks([TABLE], TABLE), np.array([[360.0, 300.0]]))
     assert outline.alternative is None
+
+
+def _with_peaks(cues, corners_px: np.ndarray, sides_px: np.ndarray):
+    """Cues with corner and side-pocket peaks (score 0.9) at these points [px]."""
+    corners_px, sides_px = np.asarray(corners_px, float).reshape(-1, 2), np.asarray(sides_px, float).reshape(-1, 2)
+    return replace(
+        cues,
+        corners_px=corners_px,
+        corner_scores=np.full(len(corners_px), 0.9),
+        sides_px=sides_px,
+        side_scores=np.full(len(sides_px), 0.9),
+    )
+
+
+BAND = np.array([[-300.0, 120.0], [1100.0, 95.0], [1100.0, 360.0], [-300.0, 400.0]])  # two long cushions across
+
+
+def test_two_long_cushions_are_paired_with_their_side_pockets():
+    """A close view across the table: the region's two cushion lines and the side pockets on them."""
+    far_pocket, near_pocket = np.array([400.0, 109.0]), np.array([400.0, 380.0])
+    outline = surface_outline(_with_peaks(cues_of(BAND), np.zeros((0, 2)), [far_pocket, near_pocket]))
+    assert len(outline.cushion_lines) == 2
+    pair = long_cushion_pair(outline)
+    assert pair is not None
+    lines, marks = pair
+    assert sorted(m.kind for m in marks) == ["pocket", "pocket"]
+    for mark in marks:  # each pocket lies on the line it is given to
+        line = lines[mark.line]
+        assert abs(mark.px @ line[:2] + line[2]) / np.hypot(*line[:2]) < 4.0
+    assert {marks[0].line, marks[1].line} == {0, 1}
+
+
+def test_two_cushions_need_a_side_pocket_and_a_second_mark():
+    far_pocket = np.array([400.0, 109.0])
+    assert long_cushion_pair(surface_outline(_with_peaks(cues_of(BAND), np.zeros((0, 2)), [far_pocket]))) is None
+    assert long_cushion_pair(surface_outline(cues_of(BAND))) is None
+
+
+def test_two_cushions_meeting_at_a_corner_in_view_are_no_pair():
+    """A corner view: a long and a short cushion meet at a corner in the photo; they are not two long cushions."""
+    corner = np.array([300.0, 100.0])
+    wedge = np.array([corner, [1200.0, 500.0], [-400.0, 900.0]])
+    pocket = corner + 0.5 * (np.array([1200.0, 500.0]) - corner) * 0.6
+    outline = surface_outline(_with_peaks(cues_of(wedge), [corner], [pocket]))
+    assert len(outline.cushion_lines) >= 2
+    assert long_cushion_pair(outline) is None

@@ -9,7 +9,9 @@ the photo (:func:`~pix2pockets.vision.table.cloth_edge.snap_fit`). Where the out
 :data:`CORNER_TOLERANCE`), the diamond fit is kept (``"diamonds+surface"``). Where they disagree, a diamond fit whose
 playing surface overlaps the model's surface region far less (:data:`SURFACE_OVERLAP_MARGIN`) loses, else the fit that
 explains more diamonds and balls wins (``"diamonds"`` or ``"surface"``). A surface fit that holds none of three or more
-sure balls (:data:`MIN_BALLS_HELD`) is refused.
+sure balls (:data:`MIN_BALLS_HELD`) is refused. Where the outline gives no fit, a close view across the table may still
+show the two long cushions with their side pockets (:func:`~pix2pockets.vision.table.surface.long_cushion_pair`), which
+fix the table on their own (:func:`~pix2pockets.vision.table.outline_fit.fit_two_cushions`).
 
 Without a surface, :func:`estimate_table` fits the table from the diamonds
 (:func:`~pix2pockets.vision.table.fit.fit_table`, the rail sights) and from the cloth
@@ -40,10 +42,10 @@ from pix2pockets.vision.table.cloth_edge import side_contrasts, snap_fit
 from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.fit import TableFit, diamond_height, fit_table
 from pix2pockets.vision.table.outline_camera import CUSHION_WIDTH, outline_rectangle
-from pix2pockets.vision.table.outline_fit import fit_outline
+from pix2pockets.vision.table.outline_fit import fit_outline, fit_two_cushions
 from pix2pockets.vision.table.pixel_aspect import pixel_aspect_of_balls, pixel_aspect_of_photo, snapped_aspect
 from pix2pockets.vision.table.quad_geometry import corner_gap, quad_mask
-from pix2pockets.vision.table.surface import SurfaceOutline
+from pix2pockets.vision.table.surface import SurfaceOutline, long_cushion_pair
 
 CUES = ("diamonds", "cloth", "surface", "all")
 """What :func:`estimate_table` may fit the table to."""
@@ -234,6 +236,8 @@ def estimate_table(
                 continue
             found_fits.append(found)
         surface_fit = better_surface_fit(found_fits, rgb, surface.mask, sure.boxes)
+        if surface_fit is None:  # a close view across the table: its two long cushions alone
+            surface_fit = _two_cushion_fit(surface, image_size, spec, sure, outline_aspect, base, reasons)
     if surface_fit is not None:
         for fit in fits:  # a diamond fit on the surface's corners is the sharper of the two
             if corner_gap(fit.corners_px, surface_fit.corners_px) <= CORNER_TOLERANCE * math.hypot(*image_size):
@@ -332,6 +336,43 @@ def outline_used(fit: TableFit, surface: SurfaceOutline) -> SurfaceOutline:
         return surface
     gap = corner_gap(fit.corners_px, alternative.corners_px)
     return alternative if gap < corner_gap(fit.corners_px, surface.corners_px) else surface
+
+
+def _two_cushion_fit(
+    surface: SurfaceOutline,
+    image_size: tuple[int, int],
+    spec: TableSpec | None,
+    sure: Detections,
+    pixel_aspect: float | None,
+    base: TableSpec | None,
+    reasons: list[str],
+) -> TableFit | None:
+    """The table from the surface's two long cushions and their marks (:func:`long_cushion_pair`), when it shows
+    them; a reason is added to ``reasons`` where they give none."""
+    pair = long_cushion_pair(surface)
+    if pair is None:
+        return None
+    lines, marks = pair
+    try:
+        fit = fit_two_cushions(
+            lines,
+            marks,
+            image_size,
+            spec,
+            ball_boxes=sure.boxes,
+            cloth_mask=surface.mask,
+            pixel_aspect=pixel_aspect,
+            offset=0.0,
+            plane_z=0.0,
+            base=base,
+        )
+    except TableFitError as err:
+        reasons.append(f"two cushions: {_reason(err)}")
+        return None
+    if len(sure) >= MIN_BALLS_HELD and balls_on_table(fit, sure.centres) == 0:
+        reasons.append(f"two cushions: their table holds none of the {len(sure)} balls")
+        return None
+    return replace(fit, source="surface")
 
 
 def _reason(err: TableFitError) -> str:

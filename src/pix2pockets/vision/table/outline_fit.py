@@ -15,6 +15,11 @@ point of their direction, the middle line holds the other direction, at right an
 the table's known proportions place the missing side. The focal length then comes from a prior, the balls (all on
 the table) and the cloth (inside it).
 
+A close view across the table shows only its two long cushions. Their lines, the side pockets on them and a corner
+fix the table too (:func:`fit_two_cushions`, through
+:func:`~pix2pockets.vision.table.two_cushions.complete_two_long_cushions`): two pockets and a corner fix the focal
+length as well; with two marks it comes from the same prior, the balls and the cloth.
+
 Without diamonds a photo fixes the table only up to scale: its size comes from the balls
 (:mod:`pix2pockets.vision.table.table_size`).
 
@@ -25,7 +30,7 @@ with each usual export stretch on a square photo, weighed by the ball boxes' sha
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import cv2
 import numpy as np
@@ -48,6 +53,7 @@ from pix2pockets.vision.table.outline_camera import (
 from pix2pockets.vision.table.pixel_aspect import EXPORT_ASPECTS, median_box_aspect
 from pix2pockets.vision.table.quad_geometry import line_through, quad_mask
 from pix2pockets.vision.table.table_size import size_from_balls, spec_of_length
+from pix2pockets.vision.table.two_cushions import CushionMark, complete_two_long_cushions
 
 THREE_LINE_FOCALS = (0.55, 0.7, 0.9, 1.15, 1.5, 2.0)
 """Focal lengths tried with three cushions, as multiples of the larger (unstretched) image side."""
@@ -318,6 +324,24 @@ def fit_outline(
     aspects = _aspect_hypotheses(pixel_aspect, image_size, boxes)
     ev_of = {a: _evidence(a, image_size, boxes, dots, dark, cloth_mask) for a, _ in aspects}
     hyps = _hypotheses(corners, seen, image_size, base, spec is not None, aspects, ev_of, offset, plane_z)
+    return _best_fit(
+        hyps, image_size, spec, base, boxes, len(dots), offset, plane_z, top_view_balls, max_rectangle_cost
+    )
+
+
+def _best_fit(
+    hyps: list[_Hypothesis],
+    image_size: tuple[int, int],
+    spec: TableSpec | None,
+    base: TableSpec,
+    boxes: np.ndarray,
+    n_diamonds: int,
+    offset: float,
+    plane_z: float | None,
+    top_view_balls: int,
+    max_rectangle_cost: float | None,
+) -> TableFit:
+    """The fit of the cheapest of the hypotheses that gives a plausible camera (of the :data:`MAX_TRIED` cheapest)."""
     hyps = sorted((h for h in hyps if np.isfinite(h.cost)), key=lambda h: h.cost)
     if not hyps:
         raise TableFitError("no table found: the cloth outline gives no camera")
@@ -330,10 +354,74 @@ def fit_outline(
             )
             continue
         try:
-            return _final_fit(best, image_size, spec, base, boxes, len(dots), offset, plane_z, top_view_balls)
+            return _final_fit(best, image_size, spec, base, boxes, n_diamonds, offset, plane_z, top_view_balls)
         except TableFitError as err:
             error = error or err
     raise error or TableFitError("no table found")
+
+
+def fit_two_cushions(
+    lines: np.ndarray,
+    marks: list[CushionMark],
+    image_size: tuple[int, int],
+    spec: TableSpec | None = None,
+    *,
+    ball_boxes: np.ndarray | None = None,
+    cloth_mask: np.ndarray | None = None,
+    pixel_aspect: float | None = None,
+    offset: float = CUSHION_WIDTH,
+    plane_z: float | None = None,
+    base: TableSpec | None = None,
+) -> TableFit:
+    """Fit the table from its two long cushions (:mod:`pix2pockets.vision.table.two_cushions`).
+
+    Args:
+        lines: (2, 3) the two long cushion lines ``a u + b v + c = 0`` [px] (the outline's, ``offset`` outside the
+            playing surface at ``plane_z``).
+        marks: side pockets and corners seen on them (:class:`~pix2pockets.vision.table.two_cushions.CushionMark`;
+            at least a side pocket and one more).
+        image_size, spec, ball_boxes, cloth_mask, pixel_aspect, offset, plane_z, base: as for :func:`fit_outline`.
+
+    Returns:
+        A :class:`TableFit` with ``source="cloth"``.
+
+    Raises:
+        TableFitError: too few marks, or no table they place that the balls and the cloth agree with.
+    """
+    if not any(m.kind == "pocket" for m in marks) or len(marks) < 2:
+        raise TableFitError(
+            "no table found: two cushions fix the table only with a side pocket on one and a corner or a second "
+            "side pocket"
+        )
+    boxes = np.zeros((0, 4)) if ball_boxes is None else np.asarray(ball_boxes, dtype=float).reshape(-1, 4)
+    base = spec or base or TableSpec()
+    aspects = _aspect_hypotheses(pixel_aspect, image_size, boxes)
+    world = outline_rectangle(base, offset)
+    length, width = world[1, 0] - world[0, 0], world[2, 1] - world[1, 1]
+    tol = 0.01 * math.hypot(*image_size)
+    hyps: list[_Hypothesis] = []
+    for aspect, aspect_cost in aspects:
+        size = (image_size[0] / aspect, image_size[1])
+        unstretch = np.diag([aspect, 1.0, 1.0])  # a line in stretched pixels, seen in unstretched ones
+        line0, line1 = (np.asarray(line, dtype=float) @ unstretch for line in lines)
+        flat = [replace(m, px=np.asarray(m.px, dtype=float) / np.array([aspect, 1.0])) for m in marks]
+        ev = _evidence(aspect, image_size, boxes, np.zeros((0, 2)), None, cloth_mask)
+        for factor in THREE_LINE_FOCALS:
+            for table in complete_two_long_cushions(
+                line0, line1, flat, factor * max(size), size, length, width, free_focal=len(marks) >= 3
+            ):
+                quad = table.quad
+                area = float(np.dot(quad[:, 0], np.roll(quad[:, 1], -1)) - np.dot(quad[:, 1], np.roll(quad[:, 0], -1)))
+                if area > 0:  # a camera above the table sees its corner order with a negative signed area
+                    quad = quad[[1, 0, 3, 2]]
+                quick = quick_camera(quad, size, base, offset, focal=table.focal, plane_z=plane_z)
+                if quick is None:
+                    continue
+                camera, rect = quick
+                prior = (math.log(table.focal / (THREE_LINE_FOCAL * max(size))) / THREE_LINE_FOCAL_SIGMA) ** 2
+                score = _score(quad, camera, rect, True, base, spec is not None, ev, aspect, tol)
+                hyps.append(_Hypothesis(aspect_cost + prior + table.cost + score, rect, quad, aspect, camera, True))
+    return _best_fit(hyps, image_size, spec, base, boxes, 0, offset, plane_z, TOP_VIEW_BALLS, None)
 
 
 def _final_fit(

@@ -26,7 +26,7 @@ Example:
 from __future__ import annotations
 
 import itertools
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 import cv2
 import numpy as np
@@ -41,6 +41,7 @@ from pix2pockets.vision.table.quad_geometry import (
     robust_line,
     tls_fit,
 )
+from pix2pockets.vision.table.two_cushions import CushionMark
 
 SURFACE_THRESHOLD = 0.5
 UPSAMPLE = 4
@@ -73,6 +74,10 @@ leaves out (a ball is no proof: ball returns and players' hands hold balls too).
 ALTERNATIVE_GAP = 0.03
 """A four-peak outline that lost is kept as a second hypothesis when a corner lies this share of the table's length
 away from the region's outline (closer, it would give the same fit)."""
+MARK_REACH = 0.02
+"""A corner or side-pocket peak marks a cushion line when it lies within this share of the image diagonal of it."""
+MARK_MIN_SCORE = 0.5
+"""Least score of a peak that marks a cushion line for a fit from two cushions."""
 SIDE_POCKET_REACH = 0.2
 """A side-pocket peak counts for a side when it lies within this share of the side's length of its middle and
 within this share of the side's length of its line."""
@@ -93,6 +98,9 @@ class SurfaceOutline:
         alternative: a second hypothesis for a fit the outline cannot give: the four corner peaks' own outline
             where it lost to the region's (e.g. a region that leaks onto a player's shirt), else the enclosing
             quadrilateral's where the cushions read off the frame replaced it; None without one.
+        cushion_lines: (k, 3) the straight runs of the region's edge off the frame, longest first (lines
+            ``a u + b v + c = 0`` [px], normals out of the region; empty when the frame does not cut the region).
+        cues: the table model's reading the outline came from (its corner and side-pocket peaks).
     """
 
     corners_px: np.ndarray
@@ -102,6 +110,8 @@ class SurfaceOutline:
     mask: np.ndarray
     confidence: float
     alternative: SurfaceOutline | None = None
+    cushion_lines: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
+    cues: TableCues | None = None
 
 
 def _table_region(surface: np.ndarray, threshold: float, marks: np.ndarray, min_cells: float) -> np.ndarray:
@@ -149,18 +159,13 @@ def _side_lines(points: np.ndarray, quad: np.ndarray, tol: float) -> tuple[np.nd
     return lines, support
 
 
-def _cut_region_sides(
+def _cushion_runs(
     points: np.ndarray, on_frame: np.ndarray, tol: float, image_size: tuple[int, int]
-) -> tuple[np.ndarray, np.ndarray] | None:
-    """The sides of a region the frame cuts, read from its edge alone: lines (4, 3) in order round the region and
-    which of them are cushions (the others run along the frame).
-
-    Cushion lines are taken one after another from the edge points off the frame (``points[~on_frame]``, the
-    longest straight run first, each line bounding the region), while they are at least :data:`MIN_CUT_LINE` of
-    the image diagonal long. Sorted by the angle of their middles round the region's centre, three lines leave one
-    gap, which the frame closes: the line through the frame points there. Returns None without three cushion lines
-    or when they do not make a convex quadrilateral.
-    """
+) -> tuple[np.ndarray, np.ndarray]:
+    """The cushion lines (k, 3) of a region the frame cuts, in order round the region, normals out of it, and the
+    angles (k,) of their runs' middles round the region's centre: taken one after another from the edge points off
+    the frame (``points[~on_frame]``, the longest straight run first, each line bounding the region), while they are
+    at least :data:`MIN_CUT_LINE` of the image diagonal long."""
     diag = float(np.hypot(*image_size))
     centre = points.mean(axis=0)
     left = points[~on_frame]
@@ -175,13 +180,32 @@ def _cut_region_sides(
             break
         found.append((line, float(np.arctan2(*(left[inliers].mean(axis=0) - centre)[::-1]))))
         left = left[~inliers]
-    if len(found) < 3:
-        return None
     found.sort(key=lambda item: item[1])
-    lines = [line for line, _ in found]
+    out = np.array([line for line, _ in found]).reshape(-1, 3)
+    for k in range(len(out)):  # normals out of the region
+        if centre @ out[k, :2] + out[k, 2] > 0:
+            out[k] = -out[k]
+    return out, np.array([angle for _, angle in found])
+
+
+def _cut_region_sides(
+    runs: tuple[np.ndarray, np.ndarray], points: np.ndarray, on_frame: np.ndarray, image_size: tuple[int, int]
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """The sides of a region the frame cuts, read from its edge alone: lines (4, 3) in order round the region and
+    which of them are cushions (the others run along the frame).
+
+    The cushion lines are the region's runs and their middles' angles (:func:`_cushion_runs`). Sorted by those
+    angles round the region's centre, three lines leave one gap, which the frame closes: the line through the frame
+    points there. Returns None without three cushion lines or when they do not make a convex quadrilateral.
+    """
+    diag = float(np.hypot(*image_size))
+    centre = points.mean(axis=0)
+    runs_lines, angles = runs
+    if len(runs_lines) < 3:
+        return None
+    lines = list(runs_lines)
     seen = [True] * len(lines)
     if len(lines) == 3:
-        angles = np.array([a for _, a in found])
         gaps = np.diff(np.append(angles, angles[0] + 2 * np.pi))
         k = int(np.argmax(gaps))  # the frame closes the region between line k and the next one
         frame = points[on_frame]
@@ -314,8 +338,9 @@ def surface_outline(
     seen = support >= SEEN_SUPPORT
     replaced = None  # the quadrilateral's own outline, where the cushions read off the frame take its place
     share = region.sum() * cell_area / (w * h)
+    runs = _cushion_runs(points, on_frame, tol, (w, h)) if on_frame.any() else (np.zeros((0, 3)), np.zeros(0))
     if on_frame.any() and share <= MAX_CUT_REGION_SHARE:  # frame edges may have taken sides: read cushions
-        cut = _cut_region_sides(points, on_frame, tol, (w, h))
+        cut = _cut_region_sides(runs, points, on_frame, (w, h))
         if cut is not None and cut[1].sum() > seen.sum():
             cut_corners = _corners_of(cut[0])
             # with three cushions or more, a short one merged into its neighbours must show: more cushions, and an
@@ -345,7 +370,7 @@ def surface_outline(
     elif replaced is not None:  # the cushions read off the frame may make no rectangle a camera sees
         quad_corners, quad_peaks = _snap_to_peaks(replaced[0], cues)
         second = _outline(cues, quad_corners, replaced[1], quad_peaks, mask, chance)
-    return replace(_outline(cues, corners, seen, from_peak, mask, chance), alternative=second)
+    return replace(_outline(cues, corners, seen, from_peak, mask, chance), alternative=second, cushion_lines=runs[0])
 
 
 def _outline(
@@ -363,4 +388,40 @@ def _outline(
                 side_pocket[k] = max(side_pocket[k], float(score))
     inside = quad_mask(corners, mask.shape)
     fill = float((mask & inside).sum()) / max(float(inside.sum()), 1.0)
-    return SurfaceOutline(corners, seen, from_peak, side_pocket, mask, chance * min(fill, 1.0))
+    return SurfaceOutline(corners, seen, from_peak, side_pocket, mask, chance * min(fill, 1.0), cues=cues)
+
+
+def long_cushion_pair(outline: SurfaceOutline) -> tuple[np.ndarray, list[CushionMark]] | None:
+    """Two of the outline's cushion lines that look like the table's two long cushions, and the marks on them.
+
+    Of the pairs of :attr:`~SurfaceOutline.cushion_lines` that do not meet within the photo (two cushions meeting
+    at a corner in view are a long and a short one), the one with the most marks: the model's side-pocket and corner
+    peaks (at least :data:`MARK_MIN_SCORE`) within :data:`MARK_REACH` of a line and in the photo. It must have a side
+    pocket and two marks in all (:func:`~pix2pockets.vision.table.outline_fit.fit_two_cushions`). None without one.
+    """
+    cues = outline.cues
+    if cues is None or len(outline.cushion_lines) < 2:
+        return None
+    w, h = cues.image_size
+    reach = MARK_REACH * float(np.hypot(w, h))
+    peaks = [
+        (p, "pocket") for p, score in zip(cues.sides_px, cues.side_scores, strict=True) if score >= MARK_MIN_SCORE
+    ] + [(p, "corner") for p, score in zip(cues.corners_px, cues.corner_scores, strict=True) if score >= MARK_MIN_SCORE]
+    peaks = [(p, kind) for p, kind in peaks if 0 <= p[0] <= w and 0 <= p[1] <= h]
+    best: tuple[int, np.ndarray, list[CushionMark]] | None = None
+    for i, j in itertools.combinations(range(len(outline.cushion_lines)), 2):
+        pair = outline.cushion_lines[[i, j]]
+        meet = np.cross(pair[0], pair[1])
+        if abs(meet[2]) > 1e-12 and 0 <= meet[0] / meet[2] <= w and 0 <= meet[1] / meet[2] <= h:
+            continue
+        marks = []
+        for p, kind in peaks:
+            d = np.abs(pair[:, :2] @ p + pair[:, 2]) / np.hypot(pair[:, 0], pair[:, 1])
+            k = int(np.argmin(d))
+            if d[k] <= reach:
+                marks.append(CushionMark(np.asarray(p, dtype=float), k, kind))
+        if not any(m.kind == "pocket" for m in marks) or len(marks) < 2:
+            continue
+        if best is None or len(marks) > best[0]:
+            best = (len(marks), pair, marks)
+    return None if best is None else (best[1], best[2])
