@@ -5,11 +5,13 @@ import pytest
 
 from pix2pockets.geometry import PinholeCamera, TableSpec
 from pix2pockets.geometry.homography import (
+    _rodrigues,
     apply_homography,
     camera_from_homography,
     camera_tilt,
     fit_homography,
     image_to_table,
+    rotated_points_jacobian,
 )
 
 
@@ -61,6 +63,32 @@ def test_camera_from_homography_refines_on_points_with_prior_for_top_view():
     # focal length is not observable from a fronto-parallel plane: the image of that plane must still match
     np.testing.assert_allclose(rec.project(world), cam.project(world), atol=0.05)
     assert camera_tilt(rec) == pytest.approx(0.0, abs=1e-3)
+
+
+@pytest.mark.parametrize("rvec", [[0.3, -1.2, 2.0], [1e-7, 0.0, -2e-7], [0.0, 0.0, 0.0], [0.0, 3.1, 0.1]])
+def test_rotated_points_jacobian_matches_finite_differences(rvec):
+    rvec = np.array(rvec, dtype=float)
+    points = np.random.default_rng(1).normal(size=(5, 3))
+    jac = rotated_points_jacobian(rvec, _rodrigues(rvec), points)
+    step = 1e-6
+    for k in range(3):
+        dw = np.zeros(3)
+        dw[k] = step
+        numeric = (points @ _rodrigues(rvec + dw).T - points @ _rodrigues(rvec - dw).T) / (2 * step)
+        np.testing.assert_allclose(jac[:, :, k], numeric, atol=1e-5)
+
+
+def test_camera_from_homography_refines_an_oblique_view_from_noisy_points():
+    cam = oblique_camera()
+    spec = TableSpec()
+    z = spec.cushion_height
+    world = np.column_stack([spec.diamonds, np.full(18, z)])
+    noisy = cam.project(world) + np.random.default_rng(2).normal(0.0, 0.3, (18, 2))
+    H = fit_homography(spec.diamonds, noisy)
+    rec = camera_from_homography(H, cam.image_size, z=z, world_points=world, image_points=noisy)
+    assert rec.focal_px == pytest.approx(950.0, rel=0.02)
+    np.testing.assert_allclose(rec.position, cam.position, atol=0.02)
+    assert np.abs(rec.project(world) - noisy).max() < 1.5
 
 
 def test_image_to_table_inverts_projection():

@@ -141,6 +141,27 @@ def _rodrigues(rvec: np.ndarray) -> np.ndarray:
     return np.eye(3) + math.sin(theta) * Kx + (1 - math.cos(theta)) * Kx @ Kx
 
 
+def _skew(v: np.ndarray) -> np.ndarray:
+    """Cross-product matrices [v]x (..., 3, 3) of vectors (..., 3)."""
+    out = np.zeros((*v.shape[:-1], 3, 3))
+    out[..., 0, 1], out[..., 0, 2], out[..., 1, 2] = -v[..., 2], v[..., 1], -v[..., 0]
+    out[..., 1, 0], out[..., 2, 0], out[..., 2, 1] = v[..., 2], -v[..., 1], v[..., 0]
+    return out
+
+
+def rotated_points_jacobian(rvec: np.ndarray, R: np.ndarray, points: np.ndarray) -> np.ndarray:
+    """d(R(rvec) X) / d rvec (n, 3, 3) for points X (n, 3), R = :func:`_rodrigues` (rvec).
+
+    Closed form of the rotation-vector derivative, -R [X]x (w w^T + (R^T - I)[w]x) / |w|^2 (Gallego and Yezzi,
+    "A compact formula for the derivative of a 3-D rotation in exponential coordinates", 2015); -[X]x at w = 0.
+    """
+    theta2 = float(rvec @ rvec)
+    if theta2 < 1e-24:
+        return -_skew(points)
+    m = (np.outer(rvec, rvec) + (R.T - np.eye(3)) @ _skew(rvec)) / theta2
+    return -R @ _skew(points) @ m
+
+
 def _rotation_vector(R: np.ndarray) -> np.ndarray:
     cos = np.clip((np.trace(R) - 1) / 2, -1.0, 1.0)
     theta = math.acos(cos)
@@ -207,6 +228,25 @@ def camera_from_homography(
         prior = (p[0] - math.log(f0)) / focal_prior_sigma
         return np.concatenate([(proj - uv).ravel(), [prior]])
 
+    def jacobian(p: np.ndarray) -> np.ndarray:
+        """d residuals / d parameters (2n + 1, 7), in closed form (as exact as the residuals, and 8x cheaper than
+        finite differences)."""
+        fk = math.exp(p[0])
+        Rk = _rodrigues(p[1:4])
+        cam = X @ Rk.T + p[4:7]
+        inv_z = 1.0 / cam[:, 2]
+        xy = cam[:, :2] * inv_z[:, None]
+        # d(u, v) / d cam: f / z [[1, 0, -x / z], [0, 1, -y / z]]
+        d_cam = np.zeros((len(X), 2, 3))
+        d_cam[:, 0, 0] = d_cam[:, 1, 1] = fk * inv_z
+        d_cam[:, :, 2] = -fk * xy * inv_z[:, None]
+        jac = np.zeros((2 * len(X) + 1, 7))
+        jac[:-1, 0] = (fk * xy).ravel()
+        jac[:-1, 1:4] = (d_cam @ rotated_points_jacobian(p[1:4], Rk, X)).reshape(-1, 3)
+        jac[:-1, 4:7] = d_cam.reshape(-1, 3)
+        jac[-1, 0] = 1.0 / focal_prior_sigma
+        return jac
+
     # multi-start over the focal length: near-degenerate point sets (few rails) have local minima
     starts = [f] + [k * f0 for k in (1.0, 0.5, 2.0) if abs(math.log(k * f0 / f)) > 0.1]
     best = None
@@ -214,7 +254,7 @@ def camera_from_homography(
         Rs, ts = pose_from_homography(H, intrinsics(fs), z, ref)
         p0 = np.concatenate([[math.log(fs)], _rotation_vector(Rs), ts])
         try:
-            sol = least_squares(residuals, p0, method="lm", x_scale="jac")
+            sol = least_squares(residuals, p0, jac=jacobian, method="lm", x_scale="jac")
         except ValueError:
             continue
         if np.all(np.isfinite(sol.x)) and (best is None or sol.cost < best.cost):

@@ -104,16 +104,15 @@ def _match_diamonds(
     d = np.linalg.norm(xy[:, None, :] - table_xy[None, :, :], axis=-1)
     d = np.where(np.isfinite(d), d, np.inf)
     index = np.full(len(diamonds), -1)
-    cost = 0.0
-    order = np.argsort(d.min(axis=1))
-    used: set[int] = set()
-    for i in order:
-        j = int(np.argmin(d[i]))
-        if d[i, j] < tol_m and j not in used:
-            index[i] = j
-            used.add(j)
-            cost += d[i, j] ** 2
-    return index, cost
+    nearest = np.argmin(d, axis=1)
+    near = d[np.arange(len(diamonds)), nearest]
+    # greedy, surest first: each table diamond goes to the nearest photo diamond that has it as its own nearest
+    order = np.argsort(near, kind="stable")
+    order = order[near[order] < tol_m]
+    _, first = np.unique(nearest[order], return_index=True)
+    taken = order[first]
+    index[taken] = nearest[taken]
+    return index, float(np.sum(near[taken] ** 2))
 
 
 def _positions_along(spec: TableSpec, rail: int) -> np.ndarray:
@@ -265,7 +264,10 @@ def label_candidates(
                     break
                 if Hinv is None:
                     break
+                before = index
                 index, cost = _match_diamonds(Hinv, diamonds, table_xy, tol_m)
+                if np.array_equal(index, before):
+                    break  # the same diamonds again: a refit would give the same map
             turned = np.where(index >= 0, (index + 9) % 18, -1)
             key_t = min(tuple(index), tuple(turned))
             score = (int((index >= 0).sum()), -cost)
