@@ -191,6 +191,8 @@ def main() -> None:
         if np.isfinite(on_table).any()
         else None,
         "fit_seconds_median": float(np.median(seconds)) if seconds else None,
+        "fit_seconds_mean": float(np.mean(seconds)) if seconds else None,
+        "fit_seconds_max": float(np.max(seconds)) if seconds else None,
     }
     groups = {"all": rows}
     for name, test in (("phone photos", is_phone_photo), ("video frames", lambda image: not is_phone_photo(image))):
@@ -212,6 +214,11 @@ def main() -> None:
     if summary["corner_error_median"] is not None:
         print(f"{'corner error, median':<34} {summary['corner_error_median']:.2%} of the table length in the photo")
         print(f"{'corner error on the table, median':<34} {summary['table_error_median_m'] * 100:.1f} cm")
+    if seconds:
+        print(
+            f"{'detect + fit a photo, one process':<34} median {summary['fit_seconds_median']:.3f} s, "
+            f"mean {summary['fit_seconds_mean']:.3f} s, slowest {summary['fit_seconds_max']:.2f} s"
+        )
     wrong = [r for r in rows if not r["right"]]
     for r in wrong:
         why = r.get("error") or f"worst corner {max(r['corner_errors']):.1%}"

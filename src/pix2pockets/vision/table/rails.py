@@ -228,26 +228,10 @@ def label_candidates(
             break
         if best is not None and best[0] >= n_on_lines:
             break  # every diamond on a rail line is explained: no better hypothesis exists
-        for diamond_idx, diam_idx in _hypotheses(diamonds, usable[a], usable[b], spec):
-            if len(diamond_idx) < 4:
-                continue
-            tried += 1
-            if tried > MAX_HYPOTHESES:
-                break  # (the outer loop stops too, below)
-            H = cv2.getPerspectiveTransform(
-                table_xy[diam_idx].astype(np.float32), diamonds[diamond_idx].astype(np.float32)
-            )  # table -> image
-            if H is None or not np.all(np.isfinite(H)):
-                continue
-            # the hypothesis diamonds are seen, so in front of the camera: one sign of w for all of them; with
-            # w > 0 a camera above the table reverses handedness (det H < 0), a reflection would not
-            w = np.column_stack([table_xy[diam_idx], np.ones(len(diam_idx))]) @ H[2]
-            if not (np.all(w > 0) or np.all(w < 0)):
-                continue
-            if w[0] < 0:
-                H = -H
-            if np.linalg.det(H) >= 0:
-                continue
+        hypotheses = [hyp for hyp in _hypotheses(diamonds, usable[a], usable[b], spec) if len(hyp[0]) >= 4]
+        room = max(MAX_HYPOTHESES - tried, 0)
+        tried += len(hypotheses)  # past MAX_HYPOTHESES the outer loop stops, above
+        for H in _seen_maps(diamonds, table_xy, hypotheses[:room]):
             Hinv = _safe_inv(H)
             if Hinv is None:
                 continue
@@ -287,6 +271,29 @@ def label_candidates(
         )
     top = ranked[0][0][0]
     return [ix for sc, ix in ranked if sc[0] >= top - 1][:keep]
+
+
+def _seen_maps(
+    diamonds: np.ndarray, table_xy: np.ndarray, hypotheses: list[tuple[np.ndarray, np.ndarray]]
+) -> list[np.ndarray]:
+    """The table -> image homographies (3, 3) of the hypotheses (photo diamond indices, table diamond indices; the
+    photo diamonds the same four for all) that see their diamonds from above the table, in order.
+
+    The hypothesis diamonds are seen, so in front of the camera: one sign of w for all four (the map is scaled to
+    w > 0); with w > 0 a camera above the table reverses handedness (det H < 0), a reflection would not.
+    """
+    if not hypotheses:
+        return []
+    image = diamonds[hypotheses[0][0]].astype(np.float32)
+    table = table_xy[np.array([table_idx for _, table_idx in hypotheses])]  # (n, 4, 2)
+    maps = np.array([cv2.getPerspectiveTransform(points.astype(np.float32), image) for points in table])
+    w = table[..., 0] * maps[:, 2, None, 0] + table[..., 1] * maps[:, 2, None, 1] + maps[:, 2, None, 2]
+    finite = np.isfinite(maps).all(axis=(1, 2))
+    one_side = (w > 0).all(axis=1) | (w < 0).all(axis=1)
+    maps = np.where((w[:, 0] < 0)[:, None, None], -maps, maps)
+    ok = finite & one_side
+    ok[ok] = np.linalg.det(maps[ok]) < 0
+    return list(maps[ok])
 
 
 def _safe_inv(H: np.ndarray) -> np.ndarray | None:
