@@ -18,6 +18,9 @@ from scipy.optimize import least_squares
 
 from pix2pockets.geometry.camera import PinholeCamera
 
+MAX_REFINE_STEPS = 200
+"""Most residual evaluations of one camera refinement (a start that has not converged by then is a false labelling)."""
+
 DEFAULT_FOCAL_FACTOR = 1.0
 """Prior focal length as a multiple of the larger image side (about 53 degrees horizontal field of view)."""
 
@@ -254,7 +257,7 @@ def camera_from_homography(
         Rs, ts = pose_from_homography(H, intrinsics(fs), z, ref)
         p0 = np.concatenate([[math.log(fs)], _rotation_vector(Rs), ts])
         try:
-            sol = least_squares(residuals, p0, jac=jacobian, method="lm", x_scale="jac")
+            sol = least_squares(residuals, p0, jac=jacobian, method="lm", x_scale="jac", max_nfev=MAX_REFINE_STEPS)
         except ValueError:
             continue
         if np.all(np.isfinite(sol.x)) and (best is None or sol.cost < best.cost):
