@@ -1,11 +1,11 @@
 import math
 
+import cv2
 import numpy as np
 import pytest
 
 from pix2pockets.geometry import PinholeCamera, TableSpec
 from pix2pockets.geometry.homography import (
-    _rodrigues,
     apply_homography,
     camera_from_homography,
     camera_tilt,
@@ -69,12 +69,16 @@ def test_camera_from_homography_refines_on_points_with_prior_for_top_view():
 def test_rotated_points_jacobian_matches_finite_differences(rvec):
     rvec = np.array(rvec, dtype=float)
     points = np.random.default_rng(1).normal(size=(5, 3))
-    jac = rotated_points_jacobian(rvec, _rodrigues(rvec), points)
+
+    def rotation(w: np.ndarray) -> np.ndarray:
+        return cv2.Rodrigues(w.reshape(3, 1))[0]
+
+    jac = rotated_points_jacobian(rvec, rotation(rvec), points)
     step = 1e-6
     for k in range(3):
         dw = np.zeros(3)
         dw[k] = step
-        numeric = (points @ _rodrigues(rvec + dw).T - points @ _rodrigues(rvec - dw).T) / (2 * step)
+        numeric = (points @ rotation(rvec + dw).T - points @ rotation(rvec - dw).T) / (2 * step)
         np.testing.assert_allclose(jac[:, :, k], numeric, atol=1e-5)
 
 
