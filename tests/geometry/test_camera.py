@@ -39,3 +39,12 @@ def test_top_down_view_keeps_x_right():
 def test_bad_camera():
     with pytest.raises(ValueError):
         PinholeCamera.look_at(np.zeros(3), np.zeros(3), 500, (10, 10))
+
+
+def test_a_scaled_camera_sees_the_resized_photo():
+    cam = make_camera()
+    xy = np.array([[0.1, 0.2], [2.0, 1.0], [1.27, 0.635]])
+    big = cam.scaled(3.0, 2.5, (3840, 1800))
+    assert big.image_size == (3840, 1800)
+    np.testing.assert_allclose(big.project_table(xy), cam.project_table(xy) * [3.0, 2.5], atol=1e-9)
+    np.testing.assert_allclose(big.position, cam.position)

@@ -159,3 +159,32 @@ def test_without_diamonds_the_table_model_finds_the_table_and_its_size():
         suggest(example_photo_path(), detector=NoDiamondsDetector(), table_model=False).to_dict()["table"]["source"]
         == "cloth"
     )
+
+
+class EnlargedDetector:
+    """A detector's boxes on the example, in the example enlarged ``factor`` times."""
+
+    def __init__(self, detector, factor: float) -> None:
+        self.detector, self.factor = detector, factor
+
+    def detect(self, image_rgb):
+        return self.detector.detect(None).scaled(self.factor, self.factor)
+
+
+@pytest.mark.parametrize("detector", [LabelsDetector(), NoDiamondsDetector()], ids=["diamonds", "surface"])
+def test_a_photo_larger_than_the_fit_copy_gives_the_same_table(detector):
+    from pix2pockets.pipeline.photo import FIT_MAX_SIDE
+
+    photo = load_image(example_photo_path())
+    factor = 2.0
+    big = cv2.resize(photo, None, fx=factor, fy=factor, interpolation=cv2.INTER_CUBIC)
+    assert max(big.shape) > FIT_MAX_SIDE
+    small = suggest(photo, detector=detector, measure_rail_height=False)
+    large = suggest(big, detector=EnlargedDetector(detector, factor), measure_rail_height=False)
+    assert large.to_dict()["image"] == {"width": big.shape[1], "height": big.shape[0]}
+    assert large.camera.image_size == (big.shape[1], big.shape[0])
+    assert large.table_source == small.table_source and large.evidence == small.evidence
+    length = np.linalg.norm(small.corners_px[1] - small.corners_px[0])
+    np.testing.assert_allclose(large.corners_px / factor, small.corners_px, atol=0.005 * length)
+    a, b = small.layout.positions, large.layout.positions
+    assert len(a) == len(b) and np.linalg.norm(a - b, axis=1).max() < 0.01

@@ -44,6 +44,11 @@ class PinholeCamera:
         """Focal length [px] (mean of fx, fy)."""
         return float((self.K[0, 0] + self.K[1, 1]) / 2)
 
+    def scaled(self, sx: float, sy: float, image_size: tuple[int, int]) -> PinholeCamera:
+        """The same camera seeing the photo resized by ``sx`` across and ``sy`` down to ``image_size`` [px]."""
+        K = np.diag([sx, sy, 1.0]) @ self.K
+        return PinholeCamera(K, self.R, self.t, (int(image_size[0]), int(image_size[1])))
+
     def world_to_camera(self, points: np.ndarray) -> np.ndarray:
         """World points (..., 3) [m] -> camera-frame points (..., 3) [m]."""
         return np.asarray(points, dtype=float) @ self.R.T + self.t

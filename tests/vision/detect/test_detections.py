@@ -62,3 +62,15 @@ def test_bad_lengths():
         Detections(np.zeros((2, 4)), np.zeros(2), np.zeros(2), ball_score=np.zeros(3))
     with pytest.raises(ValueError, match="class ids"):
         Detections(np.zeros((1, 4)), np.zeros(1), np.array([7]))
+
+
+def test_scaled_moves_boxes_and_contacts_only():
+    det = Detections(
+        np.array([[10.0, 20.0, 30.0, 40.0]]), np.array([0.9]), np.array([0]), contact=np.array([[20.0, 39.0]]),
+        data={"number_probs": np.full((1, 16), 1 / 16)},
+    )  # fmt: skip
+    big = det.scaled(2.0, 0.5)
+    np.testing.assert_allclose(big.boxes, [[20.0, 10.0, 60.0, 20.0]])
+    np.testing.assert_allclose(big.contact, [[40.0, 19.5]])
+    np.testing.assert_allclose(big.confidence, det.confidence)
+    np.testing.assert_allclose(big.data["number_probs"], det.data["number_probs"])

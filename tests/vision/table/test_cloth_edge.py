@@ -298,3 +298,11 @@ def test_a_dark_cloths_side_does_not_jump_out_onto_a_rail_as_dark(monkeypatch):
     assert held.cloth_edges == 0  # every side held where it was: none counted as moved onto the cloth's edge
     monkeypatch.setattr(cloth_edge, "DARK_CLOTH_L", 0.0)  # the cloth not counted dark: sides run out to the rail's edge
     assert error(snap_fit(img, fit, mask, boxes)) > 5.0
+
+
+def test_the_photo_is_sampled_at_more_points_than_one_opencv_map_holds():
+    rgb = np.random.default_rng(0).integers(0, 256, (60, 80, 3), dtype=np.uint8)
+    pts = np.random.default_rng(1).uniform(0, 59, (40_000, 2, 2))
+    lab = cloth_edge._lab_at(rgb, pts)
+    assert lab.shape == (40_000, 2, 3)
+    np.testing.assert_allclose(lab[[0, 39_999]], cloth_edge._lab_at(rgb, pts[[0, 39_999]]), atol=1e-5)

@@ -217,3 +217,25 @@ def test_two_cushions_meeting_at_a_corner_in_view_are_no_pair():
     outline = surface_outline(_with_peaks(cues_of(wedge), [corner], [pocket]))
     assert len(outline.cushion_lines) >= 2
     assert long_cushion_pair(outline) is None
+
+
+def test_a_scaled_outline_keeps_its_cushion_lines_on_its_corners_and_its_cues_surface():
+    far_left, far_right, near_right, near_left = np.array([[150.0, 110.0], [620.0, 95.0], [900.0, 520.0], [-150, 560]])
+    outline = surface_outline(cues_of(np.array([far_left, far_right, near_right, near_left])))
+    assert len(outline.cushion_lines)
+    sx, sy = 2.5, 2.0
+    size = (round(IMAGE[0] * sx), round(IMAGE[1] * sy))
+    big = outline.scaled(sx, sy, size)
+    np.testing.assert_allclose(big.corners_px, outline.corners_px * [sx, sy])
+    assert big.mask.shape == (size[1], size[0]) and big.mask.dtype == bool
+    assert abs(big.mask.mean() - outline.mask.mean()) < 0.01
+    for old, new in zip(outline.cushion_lines, big.cushion_lines, strict=True):  # the same points lie on each line
+        on_old = np.array([[-old[2] * old[0], -old[2] * old[1]]]) + np.array([[0.0], [100.0]]) * [-old[1], old[0]]
+        assert np.abs(on_old * [sx, sy] @ new[:2] + new[2]).max() < 1e-9
+        assert np.linalg.norm(new[:2]) == pytest.approx(1.0)
+    size = (round(IMAGE[0] * sx), round(IMAGE[1] * sx))
+    cues = outline.scaled(sx, sx, size).cues  # the network input scales alike across and down
+    assert cues.image_size == size
+    assert abs(cues.surface_mask().mean() - outline.cues.surface_mask().mean()) < 0.01
+    net = np.array([[100.0, 50.0]])
+    np.testing.assert_allclose(cues.letterbox.to_image(net), outline.cues.letterbox.to_image(net) * sx)

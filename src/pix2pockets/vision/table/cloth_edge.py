@@ -78,6 +78,8 @@ PULL_BAND_PX = (1, 5)
 """Band just inside a side, from and to this many pixels in, that must be mostly cloth (:func:`pull_in_sides`)."""
 MIN_CLOTH_INSIDE = 0.5
 """Share of that band's samples that must be the cloth (its colour or its hue in other light) for the side to stay."""
+REMAP_WIDTH = 4096
+"""Samples per row of the map the photo is sampled through (OpenCV's maps hold fewer than 2^15 rows and columns)."""
 DARK_CLOTH_L = 25.0
 """A cloth darker than this (CIE L*, black and the darkest cloths in dim light) shows its edge faintly: a rail as dark
 beside it changes little from the cloth, and the steepest change near a side can be the rail's outer edge, beyond
@@ -200,9 +202,14 @@ def rail_between(
 
 def _lab_at(rgb: np.ndarray, pts: np.ndarray) -> np.ndarray:
     """CIE Lab (..., 3) of the photo sampled at ``pts`` (..., 2) [pixel indices]."""
-    flat = pts.reshape(-1, 1, 2).astype(np.float32)
-    samples = cv2.remap(rgb, flat[..., 0], flat[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-    return lab_of(samples).reshape(*pts.shape[:-1], 3)
+    flat = pts.reshape(-1, 2).astype(np.float32)
+    n = len(flat)
+    width = min(max(n, 1), REMAP_WIDTH)
+    grid = np.zeros((-(-n // width) * width, 2), dtype=np.float32)
+    grid[:n] = flat
+    grid = grid.reshape(-1, width, 2)
+    samples = cv2.remap(rgb, grid[..., 0], grid[..., 1], cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    return lab_of(samples).reshape(-1, 3)[:n].reshape(*pts.shape[:-1], 3)
 
 
 def _edge_line(points: np.ndarray, line: np.ndarray) -> np.ndarray | None:

@@ -111,6 +111,15 @@ class TableFit:
         camera = PinholeCamera(cam.K, cam.R, t, cam.image_size)
         return replace(self, camera=camera, diamond_z=float(z))
 
+    def scaled(self, sx: float, sy: float, image_size: tuple[int, int]) -> TableFit:
+        """The same fit in the photo resized by ``sx`` across and ``sy`` down to ``image_size`` [px]."""
+        return replace(
+            self,
+            camera=self.camera.scaled(sx, sy, image_size),
+            diamond_corners_px=self.diamond_corners_px * np.array([sx, sy]),
+            rms_px=self.rms_px * math.sqrt((sx * sx + sy * sy) / 2),
+        )
+
     @property
     def homography(self) -> np.ndarray:
         """Image pixels -> table metres on the cloth (``z = 0``), (3, 3), normalised to ``H[2, 2] = 1``."""

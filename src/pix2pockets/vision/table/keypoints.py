@@ -18,7 +18,7 @@ Example:
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Self
 
@@ -71,6 +71,19 @@ class TableCues:
     side_scores: np.ndarray
     letterbox: Letterbox
     image_size: tuple[int, int]
+
+    def scaled(self, sx: float, sy: float, image_size: tuple[int, int]) -> TableCues:
+        """The same reading of the photo resized by ``sx`` across and ``sy`` down to ``image_size`` [px] (the
+        network input is scaled by the mean of the two)."""
+        grow = np.array([sx, sy])
+        scale = self.letterbox.scale / ((sx + sy) / 2)
+        return replace(
+            self,
+            corners_px=self.corners_px * grow,
+            sides_px=self.sides_px * grow,
+            letterbox=Letterbox(scale, self.letterbox.size),
+            image_size=(int(image_size[0]), int(image_size[1])),
+        )
 
     def surface_mask(self, threshold: float = 0.5) -> np.ndarray:
         """(H, W) uint8 mask of the playing surface in the photo's pixels (1 on the surface)."""

@@ -113,6 +113,22 @@ class SurfaceOutline:
     cushion_lines: np.ndarray = field(default_factory=lambda: np.zeros((0, 3)))
     cues: TableCues | None = None
 
+    def scaled(self, sx: float, sy: float, image_size: tuple[int, int]) -> SurfaceOutline:
+        """The same outline in the photo resized by ``sx`` across and ``sy`` down to ``image_size`` [px]."""
+        lines = self.cushion_lines.reshape(-1, 3) * np.array([1 / sx, 1 / sy, 1.0])  # the old u is the new one / sx
+        norms = np.linalg.norm(lines[:, :2], axis=1, keepdims=True)
+        mask = cv2.resize(
+            self.mask.astype(np.uint8), (int(image_size[0]), int(image_size[1])), interpolation=cv2.INTER_NEAREST
+        )
+        return replace(
+            self,
+            corners_px=self.corners_px * np.array([sx, sy]),
+            mask=mask.astype(bool),
+            alternative=None if self.alternative is None else self.alternative.scaled(sx, sy, image_size),
+            cushion_lines=lines / np.where(norms > 0, norms, 1.0),
+            cues=None if self.cues is None else self.cues.scaled(sx, sy, image_size),
+        )
+
 
 def _table_region(surface: np.ndarray, threshold: float, marks: np.ndarray, min_cells: float) -> np.ndarray:
     """The surface region that is the table: of the regions of at least ``min_cells`` cells, the one holding the most
