@@ -179,11 +179,14 @@ def test_a_photo_larger_than_the_fit_copy_gives_the_same_table(detector):
     factor = 2.0
     big = cv2.resize(photo, None, fx=factor, fy=factor, interpolation=cv2.INTER_CUBIC)
     assert max(big.shape) > FIT_MAX_SIDE
-    small = suggest(photo, detector=detector, measure_rail_height=False)
-    large = suggest(big, detector=EnlargedDetector(detector, factor), measure_rail_height=False)
+    small = suggest(photo, detector=detector)
+    large = suggest(big, detector=EnlargedDetector(detector, factor))
     assert large.to_dict()["image"] == {"width": big.shape[1], "height": big.shape[0]}
     assert large.camera.image_size == (big.shape[1], big.shape[0])
     assert large.table_source == small.table_source and large.evidence == small.evidence
+    assert large.diamond_height_measured == small.diamond_height_measured
+    if small.diamond_height_m is not None:  # the diamonds' height measured from the cushion noses
+        assert large.diamond_height_m == pytest.approx(small.diamond_height_m, abs=0.003)
     length = np.linalg.norm(small.corners_px[1] - small.corners_px[0])
     np.testing.assert_allclose(large.corners_px / factor, small.corners_px, atol=0.005 * length)
     a, b = small.layout.positions, large.layout.positions

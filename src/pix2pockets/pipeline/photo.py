@@ -247,6 +247,26 @@ def read_numbers(
     return [(int(n), float(c)) if n >= 0 else (None, None) for n, c in zip(numbers, chances, strict=True)]
 
 
+def fit_copy(rgb: np.ndarray) -> tuple[np.ndarray, float, float]:
+    """The photo the table is fitted on: the photo itself, or a copy whose longer side is :data:`FIT_MAX_SIDE`
+    where it is larger; with the scales across and down from the photo to it."""
+    h, w = rgb.shape[:2]
+    shrink = FIT_MAX_SIDE / max(w, h)
+    if shrink >= 1.0:
+        return rgb, 1.0, 1.0
+    size = (max(1, round(w * shrink)), max(1, round(h * shrink)))
+    return cv2.resize(rgb, size, interpolation=cv2.INTER_AREA), size[0] / w, size[1] / h
+
+
+def measure_diamond_height(rgb: np.ndarray, fit: TableFit, ball_boxes: np.ndarray) -> tuple[TableFit, bool]:
+    """The fit with its diamond-plane height measured from the cushion noses in the photo (:func:`refine_fit_height`,
+    on the copy the table was fitted on), and whether it was measured (else the fit as it was)."""
+    small, sx, sy = fit_copy(rgb)
+    size = (small.shape[1], small.shape[0])
+    _, est = refine_fit_height(small, fit.scaled(sx, sy, size), ball_boxes * np.array([sx, sy, sx, sy]))
+    return (fit.with_diamond_z(est.diamond_z), True) if est.measured else (fit, False)
+
+
 def find_table(
     rgb: np.ndarray,
     raw: Detections,
@@ -271,12 +291,9 @@ def find_table(
         TableFitError: no table found in the photo (a ``ValueError``).
     """
     h, w = rgb.shape[:2]
-    shrink = FIT_MAX_SIDE / max(w, h)
-    if shrink >= 1.0:
+    small, sx, sy = fit_copy(rgb)
+    if small is rgb:
         return _find_table(rgb, raw, spec, table_model, ball_set)
-    size = (max(1, round(w * shrink)), max(1, round(h * shrink)))
-    sx, sy = size[0] / w, size[1] / h
-    small = cv2.resize(rgb, size, interpolation=cv2.INTER_AREA)
     det, chosen, surface, fit = _find_table(small, raw.scaled(sx, sy), spec, table_model, ball_set)
     surface = None if surface is None else surface.scaled(1 / sx, 1 / sy, (w, h))
     return det.scaled(1 / sx, 1 / sy), chosen, surface, fit.scaled(1 / sx, 1 / sy, (w, h))
@@ -376,8 +393,7 @@ def suggest(
     t = time.perf_counter()
     measured = False
     if measure_rail_height and fit.source.startswith("diamonds"):  # the cloth lies below the diamonds: how far
-        fit, est = refine_fit_height(rgb, fit, det[det.is_ball].boxes)
-        measured = est.measured
+        fit, measured = measure_diamond_height(rgb, fit, det[det.is_ball].boxes)
     timings["rail_height"] = time.perf_counter() - t
 
     t = time.perf_counter()
