@@ -65,3 +65,17 @@ def test_exif_orientation_is_applied():
     rgb = decode_image_rgb(buf.getvalue())
     assert rgb.shape == (3, 2, 3)
     assert rgb[0, 1, 0] == 255  # the marker moved to the top-right corner
+
+
+def test_a_phones_heic_photo_is_read(tmp_path):
+    pillow_heif = pytest.importorskip("pillow_heif")
+    pixels = np.zeros((48, 64, 3), np.uint8)
+    pixels[:, :32] = (200, 40, 40)  # red left half, green right half
+    pixels[:, 32:] = (30, 150, 60)
+    path = tmp_path / "IMG_0001.HEIC"
+    pillow_heif.from_pillow(Image.fromarray(pixels)).save(path, quality=95)  # written without Pillow's registry
+    rgb = read_image_rgb(path)
+    assert rgb.shape == (48, 64, 3) and rgb.dtype == np.uint8
+    assert np.abs(rgb[:, 4:28].mean(axis=(0, 1)) - (200, 40, 40)).max() < 12
+    assert np.abs(rgb[:, 36:60].mean(axis=(0, 1)) - (30, 150, 60)).max() < 12
+    np.testing.assert_array_equal(decode_image_rgb(path.read_bytes(), "IMG_0001.HEIC"), rgb)

@@ -1,7 +1,9 @@
-"""Reading photos safely: clear errors for non-images, truncated files and huge images; EXIF orientation applied."""
+"""Reading photos safely: clear errors for non-images, truncated files and huge images; EXIF orientation applied;
+JPEG, PNG, WebP, AVIF and the HEIC photos of phones (through ``pillow-heif``)."""
 
 from __future__ import annotations
 
+import functools
 import io
 import re
 import warnings
@@ -79,9 +81,21 @@ def _too_large(name: str, pixels: int | None, max_pixels: int, size: str = "") -
     return ValueError(f"image {name} is too large ({what}; the limit is {max_pixels} pixels)")
 
 
+@functools.cache
+def _register_heif() -> None:
+    """Let Pillow open HEIC / HEIF files (the default photo format of iPhones), where ``pillow-heif`` is installed."""
+    try:
+        from pillow_heif import register_heif_opener
+    except ImportError:  # a checkout without it reads every other format
+        return
+    register_heif_opener()
+
+
 def _open(source: Path | BinaryIO, name: str, max_pixels: int):
     """``PIL.Image.open`` with the pixel limit checked from the header (the documented message either way)."""
     from PIL import Image
+
+    _register_heif()
 
     try:
         with warnings.catch_warnings():
