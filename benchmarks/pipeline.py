@@ -1,11 +1,12 @@
-"""Photo -> suggestion time at 1280x720 on this machine, per stage, plus the cold model load.
+"""Photo -> suggestion time at 1280x720 (or ``--size``) on this machine, per stage, plus the cold model load.
 
 Uses the real detector (bundled ONNX model) and the default planner when they are present in this build;
 otherwise the missing part is replaced by the stand-ins of ``pix2pockets.testing`` (exact labels / a
-nearest-pocket planner) and the table says so. The photo is the bundled example (1280x720) unless ``--image`` is given.
+nearest-pocket planner) and the table says so. The photo is the bundled example (1280x720) unless ``--image`` is given;
+it is resized to ``--size`` (e.g. ``4032x2268``: a 16:9 frame of a 12 MP phone photo's width).
 
 Usage:
-    PYTHONPATH=src:. python benchmarks/pipeline.py --json OUT.json [--runs 5] [--image PHOTO]
+    PYTHONPATH=src:. python benchmarks/pipeline.py --json OUT.json [--runs 5] [--image PHOTO] [--size 1280x720]
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--runs", type=int, default=5)
     parser.add_argument("--image", help="photo to time (default: the bundled example)")
+    parser.add_argument("--size", default="1280x720", help="WIDTHxHEIGHT the photo is resized to [px]")
     parser.add_argument("--json", help="write results here")
     args = parser.parse_args(argv)
 
@@ -54,8 +56,15 @@ def main(argv: list[str] | None = None) -> int:
 
     path = args.image if args.image and det_name == "onnx" else example_photo_path()
     rgb = photo.load_image(path)
-    if rgb.shape[:2] != (720, 1280):
-        rgb = cv2.resize(rgb, (1280, 720), interpolation=cv2.INTER_AREA)
+    try:
+        size = tuple(int(v) for v in args.size.lower().split("x"))
+    except ValueError:
+        size = ()
+    if len(size) != 2 or min(size) < 64:
+        parser.error(f"--size must be WIDTHxHEIGHT of at least 64 px each, got {args.size!r}")
+    if rgb.shape[:2] != size[::-1]:
+        larger = size[0] * size[1] > rgb.shape[0] * rgb.shape[1]
+        rgb = cv2.resize(rgb, size, interpolation=cv2.INTER_CUBIC if larger else cv2.INTER_AREA)
     source = path
     stages: dict[str, list[float]] = {}
     for _ in range(args.runs):

@@ -14,11 +14,12 @@ corner's error is its distance in the photo divided by the table's length in the
 pair of opposite sides); a photo is *right* when all four corners are within ``--tolerance`` (2 %) of it. The median
 distance on the table itself (through the homography of the labelled corners) is reported too: there a pixel of
 reading error at the far end of an oblique view is several centimetres. ``suggest`` then runs on the same
-detections and a photo *has a shot* when it returns one.
+detections and a photo *has a shot* when it returns one. ``--scale`` enlarges (or shrinks) each photo and its labels
+first, to see the fit at other resolutions (a 640 px photo at 3 is a 1920 px one, the largest fitted as it is).
 
 Usage:
     PYTHONPATH=src python benchmarks/real_table_corners.py [--data DIR] [--labels FILE] [--table auto|9ft|...]
-        [--tolerance 0.02] [--table-model ONNX] [--draw DIR] [--sheet PNG] [--json OUT.json]
+        [--tolerance 0.02] [--table-model ONNX] [--scale 1] [--draw DIR] [--sheet PNG] [--json OUT.json]
 """
 
 from __future__ import annotations
@@ -122,8 +123,13 @@ def main() -> None:
     ap.add_argument(
         "--table-model", default=None, help="table model ONNX to fit with (default: the bundled one; 'none': without)"
     )
+    ap.add_argument(
+        "--scale", type=float, default=1.0, help="resize each photo (and its labels) by this factor first (e.g. 2, 3)"
+    )
     ap.add_argument("--json", default=None)
     args = ap.parse_args()
+    if not 0.25 <= args.scale <= 8:
+        raise SystemExit(f"--scale must be within 0.25-8, got {args.scale}")
 
     spec = None if args.table == "auto" else table_preset(args.table)
     entries = [e for e in json.loads(args.labels.read_text())["photos"] if e["whole_table"]]
@@ -136,6 +142,10 @@ def main() -> None:
             raise SystemExit(f"{path} not found: pass --data, the real-snooker-vision folder")
         image = read_image_rgb(path)
         labels_px = quad_of_point_sets(entry["lines"])
+        if args.scale != 1.0:  # pixel corners at the origin: a point scales with the photo
+            h0, w0 = image.shape[:2]
+            image = cv2.resize(image, None, fx=args.scale, fy=args.scale, interpolation=cv2.INTER_CUBIC)
+            labels_px = labels_px * np.array([image.shape[1] / w0, image.shape[0] / h0])
         t = time.perf_counter()
         raw = detector.detect(image)
         row: dict = {"image": entry["image"]}
