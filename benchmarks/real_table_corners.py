@@ -15,11 +15,12 @@ pair of opposite sides); a photo is *right* when all four corners are within ``-
 distance on the table itself (through the homography of the labelled corners) is reported too: there a pixel of
 reading error at the far end of an oblique view is several centimetres. ``suggest`` then runs on the same
 detections and a photo *has a shot* when it returns one. ``--scale`` enlarges (or shrinks) each photo and its labels
-first, to see the fit at other resolutions (a 640 px photo at 3 is a 1920 px one, the largest fitted as it is).
+first, to see the fit at other resolutions (a 640 px photo at 3 is a 1920 px one, the largest fitted as it is), and
+``--blur`` blurs it (a Gaussian of that many pixels).
 
 Usage:
     PYTHONPATH=src python benchmarks/real_table_corners.py [--data DIR] [--labels FILE] [--table auto|9ft|...]
-        [--tolerance 0.02] [--table-model ONNX] [--scale 1] [--draw DIR] [--sheet PNG] [--json OUT.json]
+        [--tolerance 0.02] [--table-model ONNX] [--scale 1] [--blur 0] [--draw DIR] [--sheet PNG] [--json OUT.json]
 """
 
 from __future__ import annotations
@@ -126,6 +127,7 @@ def main() -> None:
     ap.add_argument(
         "--scale", type=float, default=1.0, help="resize each photo (and its labels) by this factor first (e.g. 2, 3)"
     )
+    ap.add_argument("--blur", type=float, default=0.0, help="Gaussian blur [px] on each photo (after --scale)")
     ap.add_argument("--json", default=None)
     args = ap.parse_args()
     if not 0.25 <= args.scale <= 8:
@@ -146,6 +148,8 @@ def main() -> None:
             h0, w0 = image.shape[:2]
             image = cv2.resize(image, None, fx=args.scale, fy=args.scale, interpolation=cv2.INTER_CUBIC)
             labels_px = labels_px * np.array([image.shape[1] / w0, image.shape[0] / h0])
+        if args.blur > 0:
+            image = cv2.GaussianBlur(image, (0, 0), args.blur)
         t = time.perf_counter()
         raw = detector.detect(image)
         row: dict = {"image": entry["image"]}
