@@ -390,3 +390,17 @@ def test_deep_images_are_scaled_not_clipped(mode, values, expect):
     Image.fromarray(np.repeat(np.repeat(values, 40, axis=0), 40, axis=1), mode=mode).save(buf, format="TIFF")
     rgb = decode_image_rgb(buf.getvalue(), "deep.tif")
     assert [int(rgb[0, 0, 0]), int(rgb[0, -1, 0])] == expect
+
+
+def test_an_iphone_heic_photo_gets_a_shot(rendered):
+    pillow_heif = pytest.importorskip("pillow_heif")
+    data, labels = rendered
+    heic = io.BytesIO()
+    pillow_heif.from_pillow(Image.open(io.BytesIO(data)).convert("RGB")).save(heic, quality=95)
+    r = client_for(labels).post(
+        "/api/suggest", files={"file": ("IMG_0042.HEIC", heic.getvalue(), "image/heic")}, data={"group": "auto"}
+    )
+    assert r.status_code == 200, r.text
+    width, height = labels["image_size"]
+    assert r.json()["image"] == {"width": width, "height": height, "filename": "IMG_0042.HEIC"}
+    assert "suggestion" in r.json()
