@@ -1,5 +1,6 @@
 """The top-down diagram: balls located unsurely carry a ring as wide as their position error; the cloth is drawn in
-the cloth colour nearest the photo's; sights are drawn on tables fitted to them."""
+the cloth colour nearest the photo's; sights are drawn on tables fitted to them. A large photo is shown at a size
+its lines can be seen at."""
 
 from __future__ import annotations
 
@@ -13,11 +14,14 @@ from pix2pockets.pipeline.draw import (
     CLOTH_NAMES,
     CLOTH_RGB,
     CUE_AFTER,
+    MAX_PHOTO_SIDE,
     SCRATCH,
+    TEXT_BAND,
     UNSURE,
     UNSURE_SIGMA,
     draw_diagram,
     photo_cloth,
+    render_result,
 )
 from pix2pockets.pipeline.photo import suggest
 from pix2pockets.testing import SPEC, LabelDetector, NearestPocketPlanner, blank_image, camera, example_layout
@@ -93,3 +97,34 @@ def test_the_cue_balls_way_after_the_first_ball_is_drawn_to_where_it_stops():
     ring = np.any(scratched != drawn, axis=-1)  # only the ring where it stops changes ...
     redder = (scratched[ring].astype(int) - drawn[ring].astype(int)) @ np.array([1, -1, 0])
     assert ring.sum() > 20 and np.mean(redder) > 50  # ... to red: the cue ball drops there
+
+
+def test_a_large_photo_is_drawn_on_a_copy_of_the_largest_shown_size():
+    import cv2
+
+    cam = camera("45")
+    res = located(cam)
+    w, h = cam.image_size
+    factor = 2 * MAX_PHOTO_SIDE / w  # twice the largest size shown
+    big_size = (round(w * factor), round(h * factor))
+    big = res.scaled(factor, factor, big_size)
+    big_photo = cv2.resize(blank_image(cam), big_size, interpolation=cv2.INTER_NEAREST)
+    picture = render_result(big_photo, big)
+    shown = (MAX_PHOTO_SIDE, round(big_size[1] * MAX_PHOTO_SIDE / big_size[0]))
+    assert picture.shape[0] == shown[1] + TEXT_BAND
+    half = factor / 2
+    same = render_result(cv2.resize(blank_image(cam), shown), res.scaled(half, half, shown))
+    np.testing.assert_array_equal(picture, same)
+
+
+def test_a_scaled_answer_maps_its_pixels_to_the_same_table_points():
+    res = located(camera("45"))
+    big = res.scaled(3.0, 2.0, (3840, 1440))
+    assert big.image_size == (3840, 1440) and big.camera.image_size == (3840, 1440)
+    np.testing.assert_allclose(big.corners_px, res.corners_px * [3.0, 2.0])
+    for old, new in zip(res.balls, big.balls, strict=True):
+        np.testing.assert_allclose(new.contact_px, np.array(old.contact_px) * [3.0, 2.0])
+        np.testing.assert_allclose(new.bbox_px, np.array(old.bbox_px) * [3.0, 2.0, 3.0, 2.0])
+        uv = np.array([*new.contact_px, 1.0]) @ np.array(big.homography).T
+        np.testing.assert_allclose(uv[:2] / uv[2], old.table_xy_m, atol=2e-3)
+    assert big.text == res.text

@@ -48,6 +48,9 @@ BALL_COLOURS = {
 }
 """Diagram colours (RGB) by class name: a blackball set's balls are red and yellow."""
 TEXT_BAND = 44  # [px]
+MAX_PHOTO_SIDE = 1920
+"""Longest side [px] of the photo in the result picture: a larger photo (a 12 MP phone photo) is drawn on a copy of
+this size, so that its lines and text stay legible when the picture is viewed whole."""
 UNSURE = (200, 225, 240)
 UNSURE_SIGMA = 0.01
 """A ball located less surely than this [m] (``LocatedBall.position_sigma_m``) gets a ring on the diagram two of its
@@ -274,10 +277,31 @@ def draw_diagram(result: Suggestion, height: int, cloth: tuple[int, int, int] = 
     return img
 
 
+def shown_photo_size(width: int, height: int) -> tuple[int, int]:
+    """(width, height) [px] of a photo of that size in the result picture: its own, or its longer side cut to
+    :data:`MAX_PHOTO_SIDE`."""
+    shrink = MAX_PHOTO_SIDE / max(width, height)
+    if shrink >= 1.0:
+        return int(width), int(height)
+    return max(1, round(width * shrink)), max(1, round(height * shrink))
+
+
+def picture_copy(rgb: np.ndarray, result: Suggestion) -> tuple[np.ndarray, Suggestion]:
+    """The photo and its answer as the result picture shows them: as they are, or a copy of
+    :func:`shown_photo_size` with the answer's pixels scaled onto it."""
+    h, w = rgb.shape[:2]
+    size = shown_photo_size(w, h)
+    if size == (w, h):
+        return rgb, result
+    small = _cv2().resize(rgb, size, interpolation=_cv2().INTER_AREA)
+    return small, result.scaled(size[0] / w, size[1] / h, size)
+
+
 def render_result(rgb: np.ndarray, result: Suggestion) -> np.ndarray:
     """Photo with the shot, the top-down diagram beside it (in the photo's cloth colour, :func:`photo_cloth`), and
-    the text line below: RGB uint8."""
+    the text line below: RGB uint8. A photo larger than :data:`MAX_PHOTO_SIDE` is shown at that size."""
     cv2 = _cv2()
+    rgb, result = picture_copy(rgb, result)
     photo = draw_photo(rgb, result)
     diagram = draw_diagram(result, photo.shape[0], photo_cloth(rgb, result))
     h = photo.shape[0]

@@ -7,7 +7,7 @@ and ``docs/pipeline.md``).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -73,6 +73,12 @@ class LocatedBall:
         if self.number is None or (self.number_chance is not None and self.number_chance < SURE_NUMBER_CHANCE):
             return None
         return self.number
+
+    def scaled(self, sx: float, sy: float) -> LocatedBall:
+        """The same ball in the photo resized by ``sx`` across and ``sy`` down (its box and contact point)."""
+        x1, y1, x2, y2 = self.bbox_px
+        u, v = self.contact_px
+        return replace(self, bbox_px=(x1 * sx, y1 * sy, x2 * sx, y2 * sy), contact_px=(u * sx, v * sy))
 
     @property
     def name(self) -> str:
@@ -248,6 +254,20 @@ class Suggestion:
     ball_set: str = "american"
     table_in_view: float = 1.0
     ball_in_hand: str | None = None
+
+    def scaled(self, sx: float, sy: float, image_size: tuple[int, int]) -> Suggestion:
+        """The same answer for the photo resized by ``sx`` across and ``sy`` down to ``image_size`` [px] (what is in
+        pixels moves; the table, the balls on it and the shot stay)."""
+        to_old = np.diag([1.0 / sx, 1.0 / sy, 1.0])  # new pixels -> the photo's
+        homography = np.asarray(self.homography, dtype=float) @ to_old
+        return replace(
+            self,
+            image_size=(int(image_size[0]), int(image_size[1])),
+            corners_px=np.asarray(self.corners_px, dtype=float) * np.array([sx, sy]),
+            homography=homography / homography[2, 2],
+            balls=tuple(ball.scaled(sx, sy) for ball in self.balls),
+            camera=self.camera.scaled(sx, sy, image_size),
+        )
 
     @property
     def spec(self) -> TableSpec:

@@ -98,9 +98,9 @@ class _Once:
 def picture_parts(photo_shape: tuple[int, ...], picture_shape: tuple[int, ...], scale: float) -> dict | None:
     """Where the photo, the diagram and the caption lie in the result picture, ``[x, y, w, h]`` [px] each.
 
-    The picture of :func:`~pix2pockets.pipeline.draw.render_result` is the photo (its own size) with the diagram
-    beside it (as tall as the photo) and a caption band below both; the page cuts it into these parts to stack
-    them on a narrow screen. None when the picture is not laid out so.
+    The picture of :func:`~pix2pockets.pipeline.draw.render_result` is the photo (``photo_shape``, as shown there) with
+    the diagram beside it (as tall as the photo) and a caption band below both; the page cuts it into these parts to
+    stack them on a narrow screen. None when the picture is not laid out so.
     """
     ph, pw = photo_shape[:2]
     H, W = picture_shape[:2]
@@ -211,7 +211,7 @@ class Engine:
 
     def _run(self, data: bytes, name: str, options: JobOptions, report: Report) -> dict:
         from pix2pockets.pipeline import photo
-        from pix2pockets.pipeline.draw import encode_picture, render_result
+        from pix2pockets.pipeline.draw import encode_picture, render_result, shown_photo_size
         from pix2pockets.vision.image_io import decode_image_rgb
 
         report("load")
@@ -239,7 +239,8 @@ class Engine:
         report("draw")
         picture = render_result(rgb, result)
         scale = min(1.0, MAX_PICTURE_SIDE / max(picture.shape[:2]))
-        parts = picture_parts(rgb.shape, picture.shape, scale)
+        shown = shown_photo_size(rgb.shape[1], rgb.shape[0])
+        parts = picture_parts((shown[1], shown[0]), picture.shape, scale)
         if scale < 1.0:
             import cv2
 
