@@ -9,13 +9,15 @@ in the photo (the true outline's longer pair of opposite sides). Only corners wi
 puts behind the camera counts as infinitely far off.
 
 ``--cloth black,red,burgundy`` keeps only renders of those cloths (the scene is drawn first, without rendering).
+``--stretch-to 640x640`` resizes each render (and its corners) first, as an export that squashes every photo to one
+size.
 
 A render whose frame shows fewer than three cushions (at least :data:`CUSHION_IN_VIEW` of each cushion's length) does
 not fix the table for a person either; those are counted apart, with how many the estimate refused.
 
 Usage:
     PYTHONPATH=src python benchmarks/rendered_surface_fit.py --n 100 [--seed 5000] [--size 960x540]
-        [--with-sights] [--cloth NAMES] [--json OUT.json]
+        [--with-sights] [--cloth NAMES] [--stretch-to WxH] [--json OUT.json]
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ import time
 from collections import defaultdict
 from pathlib import Path
 
+import cv2
 import numpy as np
 
 os.environ.setdefault("OMP_NUM_THREADS", "1")
@@ -61,9 +64,12 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--size", default="960x540")
     ap.add_argument("--with-sights", action="store_true", help="fit renders with sights too (the table model alone)")
     ap.add_argument("--cloth", default=None, help="only renders of these cloths, comma-separated (e.g. black,red)")
+    ap.add_argument("--stretch-to", default=None, help="resize each render to WxH first (e.g. 640x640: an export)")
     ap.add_argument("--json")
     args = ap.parse_args(argv)
     size = tuple(int(v) for v in args.size.lower().split("x"))
+    out_size = tuple(int(v) for v in args.stretch_to.lower().split("x")) if args.stretch_to else size
+    stretch = np.array(out_size, dtype=float) / np.array(size)
     detector = default_detector()
     cloths = None if args.cloth is None else set(args.cloth.split(","))
     unknown = (cloths or set()) - set(CLOTH_COLOURS)
@@ -80,8 +86,9 @@ def main(argv: list[str] | None = None) -> int:
         labels = out.labels
         if labels["style"]["sights"] != "none" and not args.with_sights:
             continue
-        truth = np.array([c["px_cloth"] or [np.nan, np.nan] for c in labels["corners"]], dtype=float)
-        w, h = labels["image_size"]
+        truth = np.array([c["px_cloth"] or [np.nan, np.nan] for c in labels["corners"]], dtype=float) * stretch
+        w, h = out_size
+        image = out.image if out_size == size else cv2.resize(out.image, out_size, interpolation=cv2.INTER_AREA)
         if not np.all(np.isfinite(truth)):
             continue
         inside = (truth[:, 0] >= 0) & (truth[:, 0] <= w) & (truth[:, 1] >= 0) & (truth[:, 1] <= h)
@@ -94,7 +101,7 @@ def main(argv: list[str] | None = None) -> int:
         }
         t = time.perf_counter()
         try:
-            fit = find_table(out.image, detector.detect(out.image))[3]
+            fit = find_table(image, detector.detect(image))[3]
         except TableFitError as err:
             row.update(fit=False, error=str(err).split(":")[0])
             rows.append(row)

@@ -356,3 +356,31 @@ def test_a_rack_without_its_cue_ball_is_broken_from_hand():
     # scattered balls without a cue ball are no break: the photo lacks its cue ball
     with pytest.raises(ValueError, match="no cue ball found"):
         suggest(blank_image(cam), "solids", LabelDetector(cam, example_layout(), drop=(0,)), NearestPocketPlanner())
+
+
+@pytest.mark.parametrize(
+    ("size", "aspect", "copy_size"),
+    [
+        ((640, 640), 0.56, (1138, 640)),  # a 16:9 frame squashed to a square: stretched back across
+        ((640, 640), 0.75, (853, 640)),  # a 4:3 photo
+        ((640, 640), 4 / 3, (640, 853)),  # a 3:4 portrait photo
+        ((4032, 3024), 1.0, (1920, 1440)),  # a 12 MP photo: shrunk
+        ((1920, 1920), 0.5625, (1920, 1080)),  # stretched back, then shrunk
+    ],
+)
+def test_the_fit_copy_undoes_an_export_squash_and_caps_the_size(size, aspect, copy_size):
+    from pix2pockets.pipeline.photo import fit_copy
+
+    photo = np.zeros((size[1], size[0], 3), np.uint8)
+    copy, sx, sy = fit_copy(photo, aspect)
+    assert (copy.shape[1], copy.shape[0]) == copy_size
+    assert (sx, sy) == pytest.approx((copy_size[0] / size[0], copy_size[1] / size[1]))
+
+
+@pytest.mark.parametrize("aspect", [None, 1.0, 0.9, 1.04])
+def test_a_photo_with_square_or_unknown_pixels_is_fitted_as_it_is(aspect):
+    from pix2pockets.pipeline.photo import fit_copy
+
+    photo = np.zeros((640, 640, 3), np.uint8)
+    copy, sx, sy = fit_copy(photo, aspect)
+    assert copy is photo and sx == sy == 1.0

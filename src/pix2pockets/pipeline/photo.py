@@ -43,6 +43,7 @@ from pix2pockets.vision.table.errors import TableFitError
 from pix2pockets.vision.table.estimate import estimate_table, outline_used
 from pix2pockets.vision.table.fit import TableFit
 from pix2pockets.vision.table.keypoints import TableCues, TableModel
+from pix2pockets.vision.table.pixel_aspect import EXPORT_ASPECTS, snapped_aspect
 from pix2pockets.vision.table.quad_geometry import share_in_frame
 from pix2pockets.vision.table.rail_height import refine_fit_height
 from pix2pockets.vision.table.surface import SurfaceOutline, surface_outline
@@ -247,15 +248,23 @@ def read_numbers(
     return [(int(n), float(c)) if n >= 0 else (None, None) for n, c in zip(numbers, chances, strict=True)]
 
 
-def fit_copy(rgb: np.ndarray) -> tuple[np.ndarray, float, float]:
-    """The photo the table is fitted on: the photo itself, or a copy whose longer side is :data:`FIT_MAX_SIDE`
-    where it is larger; with the scales across and down from the photo to it."""
+def fit_copy(rgb: np.ndarray, pixel_aspect: float | None = None) -> tuple[np.ndarray, float, float]:
+    """The photo the table is fitted on, with the scales across and down from the photo to it: the photo itself, or
+    a copy. A photo squashed by an export (``pixel_aspect``, as the balls show it, one of the usual export stretches)
+    is stretched back along its squashed side, so that the table model sees the table as the camera did; a copy
+    longer than :data:`FIT_MAX_SIDE` is then shrunk to that."""
     h, w = rgb.shape[:2]
-    shrink = FIT_MAX_SIDE / max(w, h)
-    if shrink >= 1.0:
+    width, height = float(w), float(h)
+    aspect = snapped_aspect(float(pixel_aspect)) if pixel_aspect else 1.0
+    if aspect in EXPORT_ASPECTS and aspect != 1.0:  # balls read narrower than tall: the width was squashed
+        width, height = (width / aspect, height) if aspect < 1.0 else (width, height * aspect)
+    shrink = min(1.0, FIT_MAX_SIDE / max(width, height))
+    size = (max(1, round(width * shrink)), max(1, round(height * shrink)))
+    if size == (w, h):
         return rgb, 1.0, 1.0
-    size = (max(1, round(w * shrink)), max(1, round(h * shrink)))
-    return cv2.resize(rgb, size, interpolation=cv2.INTER_AREA), size[0] / w, size[1] / h
+    larger = size[0] * size[1] > w * h
+    copy = cv2.resize(rgb, size, interpolation=cv2.INTER_CUBIC if larger else cv2.INTER_AREA)
+    return copy, size[0] / w, size[1] / h
 
 
 def measure_diamond_height(rgb: np.ndarray, fit: TableFit, ball_boxes: np.ndarray) -> tuple[TableFit, bool]:
@@ -284,17 +293,17 @@ def find_table(
         table_model: as in :func:`suggest`.
         ball_set: ``american``, ``blackball`` or ``auto`` (read from the balls' colours).
 
-    A photo larger than :data:`FIT_MAX_SIDE` is searched on a copy of that size, and what is found there is scaled
-    back to the photo's pixels.
+    The table is searched on :func:`fit_copy` of the photo (a squashed export stretched back, a photo larger than
+    :data:`FIT_MAX_SIDE` shrunk to that), and what is found there is scaled back to the photo's pixels.
 
     Raises:
         TableFitError: no table found in the photo (a ``ValueError``).
     """
     h, w = rgb.shape[:2]
-    small, sx, sy = fit_copy(rgb)
-    if small is rgb:
+    copy, sx, sy = fit_copy(rgb, raw.pixel_aspect)
+    if copy is rgb:
         return _find_table(rgb, raw, spec, table_model, ball_set)
-    det, chosen, surface, fit = _find_table(small, raw.scaled(sx, sy), spec, table_model, ball_set)
+    det, chosen, surface, fit = _find_table(copy, raw.scaled(sx, sy), spec, table_model, ball_set)
     surface = None if surface is None else surface.scaled(1 / sx, 1 / sy, (w, h))
     return det.scaled(1 / sx, 1 / sy), chosen, surface, fit.scaled(1 / sx, 1 / sy, (w, h))
 

@@ -67,9 +67,10 @@ def test_bad_lengths():
 def test_scaled_moves_boxes_and_contacts_only():
     det = Detections(
         np.array([[10.0, 20.0, 30.0, 40.0]]), np.array([0.9]), np.array([0]), contact=np.array([[20.0, 39.0]]),
-        data={"number_probs": np.full((1, 16), 1 / 16)},
+        data={"number_probs": np.full((1, 16), 1 / 16)}, pixel_aspect=0.5,
     )  # fmt: skip
     big = det.scaled(2.0, 0.5)
+    assert big.pixel_aspect == pytest.approx(2.0)  # a round ball's box, 0.5 as wide as tall, is now twice as wide
     np.testing.assert_allclose(big.boxes, [[20.0, 10.0, 60.0, 20.0]])
     np.testing.assert_allclose(big.contact, [[40.0, 19.5]])
     np.testing.assert_allclose(big.confidence, det.confidence)

@@ -98,8 +98,14 @@ class Detections:
         )
 
     def scaled(self, sx: float, sy: float) -> Detections:
-        """The same detections in the photo resized by ``sx`` across and ``sy`` down (boxes and contacts scaled)."""
-        return replace(self, boxes=self.boxes * np.array([sx, sy, sx, sy]), contact=self.contact * np.array([sx, sy]))
+        """The same detections in the photo resized by ``sx`` across and ``sy`` down (boxes, contacts and the pixel
+        aspect scaled)."""
+        return replace(
+            self,
+            boxes=self.boxes * np.array([sx, sy, sx, sy]),
+            contact=self.contact * np.array([sx, sy]),
+            pixel_aspect=None if self.pixel_aspect is None else self.pixel_aspect * sx / sy,
+        )
 
     @property
     def centres(self) -> np.ndarray:

@@ -100,7 +100,8 @@ class SurfaceOutline:
             quadrilateral's where the cushions read off the frame replaced it; None without one.
         cushion_lines: (k, 3) the straight runs of the region's edge off the frame, longest first (lines
             ``a u + b v + c = 0`` [px], normals out of the region; empty when the frame does not cut the region).
-        cues: the table model's reading the outline came from (its corner and side-pocket peaks).
+        cues: the table model's reading the outline came from (its corner and side-pocket peaks); None where the
+            outline was scaled from a copy of the photo stretched one way more than the other.
     """
 
     corners_px: np.ndarray
@@ -114,7 +115,8 @@ class SurfaceOutline:
     cues: TableCues | None = None
 
     def scaled(self, sx: float, sy: float, image_size: tuple[int, int]) -> SurfaceOutline:
-        """The same outline in the photo resized by ``sx`` across and ``sy`` down to ``image_size`` [px]."""
+        """The same outline in the photo resized by ``sx`` across and ``sy`` down to ``image_size`` [px]; its ``cues``
+        are dropped where the photo is stretched more one way than the other (the model read it at one scale)."""
         lines = self.cushion_lines.reshape(-1, 3) * np.array([1 / sx, 1 / sy, 1.0])  # the old u is the new one / sx
         norms = np.linalg.norm(lines[:, :2], axis=1, keepdims=True)
         mask = cv2.resize(
@@ -126,8 +128,13 @@ class SurfaceOutline:
             mask=mask.astype(bool),
             alternative=None if self.alternative is None else self.alternative.scaled(sx, sy, image_size),
             cushion_lines=lines / np.where(norms > 0, norms, 1.0),
-            cues=None if self.cues is None else self.cues.scaled(sx, sy, image_size),
+            cues=None if self.cues is None or not _alike(sx, sy) else self.cues.scaled(sx, sy, image_size),
         )
+
+
+def _alike(sx: float, sy: float) -> bool:
+    """Whether two scales differ by no more than rounding a photo's size does (1 %)."""
+    return abs(sx - sy) <= 0.01 * max(abs(sx), abs(sy))
 
 
 def _table_region(surface: np.ndarray, threshold: float, marks: np.ndarray, min_cells: float) -> np.ndarray:
