@@ -1,8 +1,9 @@
 """Table fits on real phone photos, checked against the dataset's whole-table boxes.
 
 The snooker-vision photos carry no diamonds, but each has a box around the whole table (class 1). A fitted table
-(the bundled detector's diamonds and balls, the pipeline's post-processing, ``estimate_table`` over the cues chosen
-with ``--cues``: the diamonds alone, the cloth outline alone, the table model's surface alone, or all) is drawn into
+(the bundled detector's diamonds and balls; with ``--cues all``, the default, ``find_table`` as ``suggest`` runs it;
+else the pipeline's post-processing and ``estimate_table`` over the diamonds alone, the cloth outline alone or the
+table model's surface alone, on the photo as it is) is drawn into
 the photo as the outer edge of
 its rails (yellow; the playing surface magenta, the head rail red); the bounding box of that outline's part in
 front of the camera, cut to the photo, should cover the labelled box. A fit *agrees* when their IoU is at least
@@ -24,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pix2pockets.pipeline.photo import clean_detections, read_surface
+from pix2pockets.pipeline.photo import clean_detections, find_table, read_surface
 from pix2pockets.vision.detect.onnx_detector import OnnxDetector
 from pix2pockets.vision.detect.postprocess import box_iou
 from pix2pockets.vision.image_io import read_image_rgb
@@ -88,9 +89,12 @@ def main() -> None:
         size = (image.shape[1], image.shape[0])
         boxes, classes = read_yolo_labels(path.parent.parent / "labels" / (path.stem + ".txt"), size)
         try:
-            det = clean_detections(detector.detect(image))
-            surface = read_surface(image, det, True) if args.cues in ("surface", "all") else None
-            fit = estimate_table(image, det, size, cues=args.cues, pixel_aspect=det.pixel_aspect, surface=surface)
+            if args.cues == "all":  # as suggest finds it
+                fit = find_table(image, detector.detect(image))[3]
+            else:
+                det = clean_detections(detector.detect(image))
+                surface = read_surface(image, det, True) if args.cues == "surface" else None
+                fit = estimate_table(image, det, size, cues=args.cues, pixel_aspect=det.pixel_aspect, surface=surface)
         except TableFitError as err:
             rows.append({"image": name, "fit": False, "error": str(err)})
             continue
