@@ -26,6 +26,7 @@ import cv2
 from pix2pockets.data.examples import example_photo_path
 from pix2pockets.pipeline import photo
 from pix2pockets.pipeline.draw import render_result
+from pix2pockets.synth.renderer import parse_size
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -57,11 +58,9 @@ def main(argv: list[str] | None = None) -> int:
     path = args.image if args.image and det_name == "onnx" else example_photo_path()
     rgb = photo.load_image(path)
     try:
-        size = tuple(int(v) for v in args.size.lower().split("x"))
-    except ValueError:
-        size = ()
-    if len(size) != 2 or min(size) < 64:
-        parser.error(f"--size must be WIDTHxHEIGHT of at least 64 px each, got {args.size!r}")
+        size = parse_size(args.size)
+    except ValueError as err:
+        parser.error(str(err))
     if rgb.shape[:2] != size[::-1]:
         larger = size[0] * size[1] > rgb.shape[0] * rgb.shape[1]
         rgb = cv2.resize(rgb, size, interpolation=cv2.INTER_CUBIC if larger else cv2.INTER_AREA)

@@ -56,7 +56,7 @@ def cushions_in_view(corners: np.ndarray, image_size: tuple[int, int], samples: 
 
 
 def main(argv: list[str] | None = None) -> int:
-    from pix2pockets.synth.renderer import render, scene_of
+    from pix2pockets.synth.renderer import parse_size, render, scene_of
 
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--n", type=int, default=100, help="renders to fit")
@@ -67,8 +67,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--stretch-to", default=None, help="resize each render to WxH first (e.g. 640x640: an export)")
     ap.add_argument("--json")
     args = ap.parse_args(argv)
-    size = tuple(int(v) for v in args.size.lower().split("x"))
-    out_size = tuple(int(v) for v in args.stretch_to.lower().split("x")) if args.stretch_to else size
+    size = parse_size(args.size)
+    out_size = parse_size(args.stretch_to) if args.stretch_to else size
     stretch = np.array(out_size, dtype=float) / np.array(size)
     detector = default_detector()
     cloths = None if args.cloth is None else set(args.cloth.split(","))

@@ -79,3 +79,13 @@ def test_a_phones_heic_photo_is_read(tmp_path):
     assert np.abs(rgb[:, 4:28].mean(axis=(0, 1)) - (200, 40, 40)).max() < 12
     assert np.abs(rgb[:, 36:60].mean(axis=(0, 1)) - (30, 150, 60)).max() < 12
     np.testing.assert_array_equal(decode_image_rgb(path.read_bytes(), "IMG_0001.HEIC"), rgb)
+
+
+def test_capped_size_shrinks_only_what_is_too_long():
+    from pix2pockets.vision.image_io import capped_size
+
+    assert capped_size(640, 480, 1920) == (640, 480)
+    assert capped_size(4032, 3024, 1920) == (1920, 1440)
+    assert capped_size(3024, 4032, 1920) == (1440, 1920)
+    assert capped_size(1137.8, 640.0, 4000) == (1138, 640)
+    assert capped_size(10000, 2, 1000) == (1000, 1)

@@ -15,6 +15,7 @@ from pix2pockets.geometry.raster import TableRaster
 from pix2pockets.pipeline.result import LocatedBall, Suggestion
 from pix2pockets.synth.palette import BALL_COLOURS as NUMBER_COLOURS
 from pix2pockets.synth.palette import CLOTH_COLOURS
+from pix2pockets.vision.image_io import capped_size
 from pix2pockets.vision.table.cloth_edge import cloth_colour
 from pix2pockets.vision.table.cloth_region import lab_of
 from pix2pockets.vision.table.quad_geometry import quad_mask
@@ -280,10 +281,7 @@ def draw_diagram(result: Suggestion, height: int, cloth: tuple[int, int, int] = 
 def shown_photo_size(width: int, height: int) -> tuple[int, int]:
     """(width, height) [px] of a photo of that size in the result picture: its own, or its longer side cut to
     :data:`MAX_PHOTO_SIDE`."""
-    shrink = MAX_PHOTO_SIDE / max(width, height)
-    if shrink >= 1.0:
-        return int(width), int(height)
-    return max(1, round(width * shrink)), max(1, round(height * shrink))
+    return capped_size(width, height, MAX_PHOTO_SIDE)
 
 
 def picture_copy(rgb: np.ndarray, result: Suggestion) -> tuple[np.ndarray, Suggestion]:

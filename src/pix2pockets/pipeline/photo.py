@@ -32,7 +32,7 @@ from pix2pockets.vision.classes import DETECTION_CAPS, ONE_PER_TABLE, ball_class
 from pix2pockets.vision.detect.base import Detector
 from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.detect.postprocess import DEFAULT_NMS_IOU, apply_caps, box_iou, resolve_ball_classes
-from pix2pockets.vision.image_io import read_image_rgb
+from pix2pockets.vision.image_io import capped_size, read_image_rgb
 from pix2pockets.vision.locate.balls import LocatedBalls, LocateMethod, locate_balls, on_the_table, sphere_boxes
 from pix2pockets.vision.locate.position_error import position_covariances, position_sigmas
 from pix2pockets.vision.locate.visibility import unexplained_shortfall
@@ -258,8 +258,7 @@ def fit_copy(rgb: np.ndarray, pixel_aspect: float | None = None) -> tuple[np.nda
     aspect = snapped_aspect(float(pixel_aspect)) if pixel_aspect else 1.0
     if aspect in EXPORT_ASPECTS and aspect != 1.0:  # balls read narrower than tall: the width was squashed
         width, height = (width / aspect, height) if aspect < 1.0 else (width, height * aspect)
-    shrink = min(1.0, FIT_MAX_SIDE / max(width, height))
-    size = (max(1, round(width * shrink)), max(1, round(height * shrink)))
+    size = capped_size(width, height, FIT_MAX_SIDE)
     if size == (w, h):
         return rgb, 1.0, 1.0
     larger = size[0] * size[1] > w * h

@@ -61,6 +61,12 @@ def probe_image(data: bytes, name: str = "upload", max_pixels: int = MAX_PIXELS)
         raise ValueError(f"cannot read image {name} (truncated or corrupt): {err}") from err
 
 
+def capped_size(width: float, height: float, max_side: int) -> tuple[int, int]:
+    """(width, height) [px] rounded, shrunk alike where the longer side exceeds ``max_side`` (at least 1 px each)."""
+    shrink = min(1.0, max_side / max(width, height))
+    return max(1, round(width * shrink)), max(1, round(height * shrink))
+
+
 def image_grid(images: list[np.ndarray], columns: int, tile: tuple[int, int] | None = None) -> np.ndarray:
     """The images side by side, ``columns`` to a row, each resized to ``tile`` (width, height) [px] when given
     (otherwise they must share one size); the last row is filled with black."""

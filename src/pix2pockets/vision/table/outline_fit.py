@@ -346,9 +346,9 @@ def _best_fit(
     if not hyps:
         raise TableFitError("no table found: the cloth outline gives no camera")
     error: TableFitError | None = None
+    limit = MAX_RECTANGLE_COST if max_rectangle_cost is None else max_rectangle_cost
     for best in hyps[:MAX_TRIED]:
-        if best.rect_cost > (MAX_RECTANGLE_COST if max_rectangle_cost is None else max_rectangle_cost):
-            limit = MAX_RECTANGLE_COST if max_rectangle_cost is None else max_rectangle_cost
+        if best.rect_cost > limit:
             error = error or TableFitError(
                 "no table found: the cloth outline is not a table seen by a camera (its four sides are no 2:1 "
                 f"rectangle in perspective: mismatch {best.rect_cost:.0f}, at most {limit:.0f} accepted)"
