@@ -384,3 +384,17 @@ def test_a_photo_with_square_or_unknown_pixels_is_fitted_as_it_is(aspect):
     photo = np.zeros((640, 640, 3), np.uint8)
     copy, sx, sy = fit_copy(photo, aspect)
     assert copy is photo and sx == sy == 1.0
+
+
+def test_a_large_photo_says_why_no_table_in_its_own_pixels(monkeypatch):
+    import pix2pockets.pipeline.photo as photo
+    from pix2pockets.vision.table.errors import in_photo_px
+
+    def no_table(rgb, *args):
+        assert max(rgb.shape[:2]) == photo.FIT_MAX_SIDE  # fitted on the shrunk copy
+        raise TableFitError(f"no table found: the diamonds do not fit one camera (reprojection {in_photo_px(10.0)})")
+
+    monkeypatch.setattr(photo, "_find_table", no_table)
+    big = np.zeros((3024, 4032, 3), np.uint8)
+    with pytest.raises(TableFitError, match=r"reprojection 21\.0 px"):
+        find_table(big, Detections.empty())

@@ -10,6 +10,7 @@ Example:
 from __future__ import annotations
 
 import functools
+import math
 import time
 from dataclasses import replace
 from pathlib import Path
@@ -39,7 +40,7 @@ from pix2pockets.vision.locate.visibility import unexplained_shortfall
 from pix2pockets.vision.stages.ball_classifier import NUMBER_PROBS
 from pix2pockets.vision.stages.ball_colours import BALL_COLOUR, RED, YELLOW, blackball_classes, read_ball_set
 from pix2pockets.vision.stages.ball_numbers import BallNumberReader, assign_numbers
-from pix2pockets.vision.table.errors import TableFitError
+from pix2pockets.vision.table.errors import TableFitError, photo_pixels
 from pix2pockets.vision.table.estimate import estimate_table, outline_used
 from pix2pockets.vision.table.fit import TableFit
 from pix2pockets.vision.table.keypoints import TableCues, TableModel
@@ -293,7 +294,8 @@ def find_table(
         ball_set: ``american``, ``blackball`` or ``auto`` (read from the balls' colours).
 
     The table is searched on :func:`fit_copy` of the photo (a squashed export stretched back, a photo larger than
-    :data:`FIT_MAX_SIDE` shrunk to that), and what is found there is scaled back to the photo's pixels.
+    :data:`FIT_MAX_SIDE` shrunk to that), and what is found there is scaled back to the photo's pixels, as are the
+    lengths an error gives.
 
     Raises:
         TableFitError: no table found in the photo (a ``ValueError``).
@@ -302,7 +304,8 @@ def find_table(
     copy, sx, sy = fit_copy(rgb, raw.pixel_aspect)
     if copy is rgb:
         return _find_table(rgb, raw, spec, table_model, ball_set)
-    det, chosen, surface, fit = _find_table(copy, raw.scaled(sx, sy), spec, table_model, ball_set)
+    with photo_pixels(1 / math.sqrt(sx * sy)):  # the reasons for no table give the photo's own pixels
+        det, chosen, surface, fit = _find_table(copy, raw.scaled(sx, sy), spec, table_model, ball_set)
     surface = None if surface is None else surface.scaled(1 / sx, 1 / sy, (w, h))
     return det.scaled(1 / sx, 1 / sy), chosen, surface, fit.scaled(1 / sx, 1 / sy, (w, h))
 

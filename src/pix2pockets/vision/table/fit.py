@@ -30,7 +30,7 @@ from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.homography import apply_homography, camera_from_homography, fit_homography
 from pix2pockets.geometry.table import TableSpec
 from pix2pockets.vision.detect.detections import Detections
-from pix2pockets.vision.table.errors import TableFitError, counted
+from pix2pockets.vision.table.errors import TableFitError, counted, in_photo_px
 from pix2pockets.vision.table.outline_camera import MIN_CAMERA_CLEARANCE
 from pix2pockets.vision.table.pixel_aspect import EXPORT_ASPECTS, pixel_aspect_of_balls, snapped_aspect
 from pix2pockets.vision.table.rails import (
@@ -438,7 +438,7 @@ def _fit_labelled(
     err = err_all[keep]
     rms = float(np.sqrt(np.mean(err**2)))
     if not np.isfinite(rms) or rms > max(4.0, tol):
-        raise TableFitError(f"no table found: the diamonds do not fit a {spec.name} table (error {rms:.1f} px)")
+        raise TableFitError(f"no table found: the diamonds do not fit a {spec.name} table (error {in_photo_px(rms)})")
     diamond_rows = np.flatnonzero(m)
     index = index.copy()
     index[diamond_rows[~keep[: len(diamond_rows)]]] = -1
@@ -459,7 +459,7 @@ def _fit_labelled(
         raise TableFitError("no table found: the fitted camera is not above the table")
     validate_corners(camera.project_table(rect, h), image_size)
     if not 0.25 * max(image_size) < camera.focal_px < 6 * max(image_size):
-        raise TableFitError(f"no table found: implausible camera (focal length {camera.focal_px:.0f} px)")
+        raise TableFitError(f"no table found: implausible camera (focal length {in_photo_px(camera.focal_px)})")
 
     return camera, index, corners, rms, n_matched
 
@@ -494,15 +494,15 @@ def check_reprojection(camera: PinholeCamera, pts: np.ndarray, index: np.ndarray
     err = float(np.sqrt(np.mean(np.sum((proj - pts[m]) ** 2, axis=1))))
     absolute = max(REPROJECTION_MAX_PX, REPROJECTION_MAX_DIAG * math.hypot(*camera.image_size))
     if not err <= absolute:
-        raise TableFitError(f"no table found: the diamonds do not fit one camera (reprojection {err:.1f} px)")
+        raise TableFitError(f"no table found: the diamonds do not fit one camera (reprojection {in_photo_px(err)})")
     sigma, dof = diamond_scatter(pts, index)
     if dof < MIN_SCATTER_DOF:
         return
     limit = max(REPROJECTION_FLOOR_PX, REPROJECTION_FACTOR * math.sqrt(2.0) * sigma)
     if not err <= limit:
         raise TableFitError(
-            f"no table found: the diamonds do not fit one camera (reprojection {err:.1f} px, "
-            f"diamond scatter about the rails {sigma:.1f} px)"
+            f"no table found: the diamonds do not fit one camera (reprojection {in_photo_px(err)}, "
+            f"diamond scatter about the rails {in_photo_px(sigma)})"
         )
 
 

@@ -38,7 +38,7 @@ import numpy as np
 from pix2pockets.geometry.camera import PinholeCamera
 from pix2pockets.geometry.homography import camera_tilt
 from pix2pockets.geometry.table import TableSpec
-from pix2pockets.vision.table.errors import TableFitError, counted
+from pix2pockets.vision.table.errors import TableFitError, counted, in_photo_px
 from pix2pockets.vision.table.fit import TableFit, diamond_height, validate_corners
 from pix2pockets.vision.table.outline_camera import (
     CUSHION_WIDTH,
@@ -484,4 +484,4 @@ def _check_camera(camera: PinholeCamera, spec: TableSpec, image_size: tuple[int,
     validate_corners(camera.project_table(spec.corners, 0.0), image_size)
     f = camera.K[1, 1]
     if not 0.9 * FOCAL_RANGE[0] * max(image_size) < f < 1.1 * FOCAL_RANGE[1] * max(image_size):
-        raise TableFitError(f"no table found: implausible camera (focal length {f:.0f} px)")
+        raise TableFitError(f"no table found: implausible camera (focal length {in_photo_px(f)})")
