@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from pix2pockets.vision.metrics.yolo_data import (
+    ball_set_of,
     camera_kind_of,
     dataset_class_map,
     load_split,
@@ -76,3 +77,13 @@ def test_camera_kind_of_reads_the_synth_sidecar(tmp_path):
         camera_kind_of(image)
     with pytest.raises(ValueError, match="pix2pockets synth"):
         camera_kind_of(tmp_path / "test" / "images" / "b.jpg")
+
+
+def test_ball_set_of_reads_the_synth_sidecar_and_defaults_to_american(tmp_path):
+    (tmp_path / "test" / "images").mkdir(parents=True)
+    (tmp_path / "test" / "meta").mkdir()
+    (tmp_path / "test" / "meta" / "a.json").write_text(json.dumps({"ball_set": "blackball"}))
+    (tmp_path / "test" / "meta" / "b.json").write_text("not json")
+    assert ball_set_of(tmp_path / "test" / "images" / "a.jpg") == "blackball"
+    assert ball_set_of(tmp_path / "test" / "images" / "b.jpg") == "american"  # unreadable
+    assert ball_set_of(tmp_path / "test" / "images" / "c.jpg") == "american"  # no sidecar: a real photo

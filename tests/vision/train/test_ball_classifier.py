@@ -1,16 +1,22 @@
-"""The crop classifier network: both heads give five classes; the grid head can tell where colour sits."""
+"""The crop classifier network: both heads give five classes; the grid head can tell where colour sits; a
+blackball render's yellows are taught as plain balls."""
+
+import json
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 torch = pytest.importorskip("torch")
 
+from pix2pockets.vision.metrics.yolo_data import LabelledImage  # noqa: E402
 from pix2pockets.vision.stages.ball_classifier import BallClassifier  # noqa: E402
 from pix2pockets.vision.stages.crops import CROP_SIZE, crop_balls  # noqa: E402
 from pix2pockets.vision.train.ball_classifier import (  # noqa: E402
     CropNet,
     CropTrainConfig,
     export_crop_classifier,
+    plain_object_balls,
 )
 
 
@@ -89,3 +95,17 @@ def test_a_classifier_of_another_crop_size_is_fed_crops_of_its_size(tmp_path):
         crops = crop_balls(image, np.array([[65.0, 55.0]]), np.array([30.0]), size)
         expected = torch.softmax(net(torch.from_numpy(crops).permute(0, 3, 1, 2).float()), 1).numpy()
     assert np.allclose(clf.classify(image, box, aspect=1.0), expected, atol=1e-4)
+
+
+@pytest.mark.parametrize(("ball_set", "taught"), [("blackball", [0, 1, 2, 2, 4]), ("american", [0, 1, 2, 3, 4])])
+def test_a_blackball_renders_yellows_are_taught_as_plain_balls(tmp_path, ball_set, taught):
+    (tmp_path / "meta").mkdir()
+    (tmp_path / "meta" / "a.json").write_text(json.dumps({"ball_set": ball_set}))
+    ids = np.array([0, 1, 2, 3, 4])  # cue, black, red (solid id), yellow (stripe id), a diamond
+    item = LabelledImage(Path(tmp_path / "images" / "a.jpg"), np.zeros((5, 4)), ids, np.full((5, 2), np.nan), (64, 64))
+    identity = {i: i for i in range(5)}
+    assert plain_object_balls(item, identity).class_id.tolist() == taught
+    # a dataset that numbers the classes otherwise: its own stripe id becomes its own solid id
+    shuffled = {0: 3, 1: 2, 2: 1, 3: 0, 4: 4}  # dataset id -> ours (dataset 0 is our stripe, 1 our solid)
+    expect = [1, 1, 2, 3, 4] if ball_set == "blackball" else ids.tolist()
+    assert plain_object_balls(item, shuffled).class_id.tolist() == expect

@@ -97,6 +97,18 @@ def camera_kind_of(image_path: str | Path) -> str:
     return kind
 
 
+def ball_set_of(image_path: str | Path) -> str:
+    """The ball set (``"american"`` or ``"blackball"``) of a rendered image, from its ``<split>/meta/<stem>.json``
+    sidecar; ``"american"`` for an image without one (real photos, renders from before blackball sets)."""
+    path = Path(image_path)
+    meta = path.parent.parent / "meta" / f"{path.stem}.json"
+    try:
+        ball_set = json.loads(meta.read_text()).get("ball_set", "american")
+    except (OSError, ValueError, AttributeError):
+        return "american"
+    return ball_set if isinstance(ball_set, str) else "american"
+
+
 def read_contacts(split: Path, stem: str, boxes: np.ndarray) -> np.ndarray:
     """Contact points [px] for the label rows, from a JSON sidecar if one exists, else NaN.
 

@@ -10,7 +10,7 @@ map over the crop first. About 80 k parameters, about 6 MFLOPs per crop.
 from __future__ import annotations
 
 import json
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 from typing import ClassVar
 
@@ -18,8 +18,9 @@ import numpy as np
 import torch
 from torch import nn
 
+from pix2pockets.vision.classes import CLASS_NAMES
 from pix2pockets.vision.image_io import read_image_rgb
-from pix2pockets.vision.metrics.yolo_data import load_splits
+from pix2pockets.vision.metrics.yolo_data import LabelledImage, ball_set_of, load_splits
 from pix2pockets.vision.stages.ball_classifier import OUTPUT_NAME
 from pix2pockets.vision.stages.crops import CROP_SIZE
 from pix2pockets.vision.train.crop_data import CROP_LABELS, NO_BALL, CropConfig, collect_crops, degrade_crops
@@ -138,8 +139,28 @@ class CropTrainConfig(CropTrainSettings):
             )
 
 
+SOLID_ID, STRIPE_ID = CLASS_NAMES.index("solid"), CLASS_NAMES.index("stripe")
+
+
+def plain_object_balls(item: LabelledImage, cmap: dict[int, int]) -> LabelledImage:
+    """A blackball render's labels with its yellows named solid, like its reds.
+
+    ``pix2pockets synth --blackball`` labels reds with the solid and yellows with the stripe class id (the detector
+    learns the set's two groups so); but a yellow has no stripe, and the classifier tells stripes by their white
+    band: taught so, it would call a plain yellow ball, such as an American 1, a stripe. The pipeline names a
+    blackball set's balls red or yellow by their colour. Other images are returned as they are.
+    """
+    if ball_set_of(item.image_path) != "blackball":
+        return item
+    dataset_id = {ours: theirs for theirs, ours in cmap.items()}
+    stripe, solid = dataset_id.get(STRIPE_ID), dataset_id.get(SOLID_ID)
+    if stripe is None or solid is None:
+        return item
+    return replace(item, class_id=np.where(item.class_id == stripe, solid, item.class_id))
+
+
 def _sources(cfg: CropTrainConfig, split: str) -> list:
-    out = labelled_sources(cfg.data, split)
+    out = [(plain_object_balls(it, cmap), cmap) for it, cmap in labelled_sources(cfg.data, split)]
     if split == "train":
         out += [(it, None) for it in load_splits(cfg.negatives, "train", cfg.negatives_exclude)]
     return out
