@@ -81,6 +81,12 @@ def _classifier_options(parser: argparse.ArgumentParser) -> None:
         help="copies of each false ball the bundled detector finds on the training images (pockets, cue tips) "
         "as 'no ball' crops (default 0)",
     )
+    parser.add_argument(
+        "--init",
+        default=None,
+        help="start from this fp32 classifier ONNX (e.g. the bundled one) instead of random weights; its widths, "
+        "head and crop size must be the ones asked for",
+    )
 
 
 def _classifier_settings(args: argparse.Namespace) -> dict:
@@ -94,6 +100,7 @@ def _classifier_settings(args: argparse.Namespace) -> dict:
         "crop_size": args.crop_size,
         "icon_negatives": args.icon_negatives,
         "hard_negatives": args.hard_negatives,
+        "init": args.init,
     }
 
 

@@ -43,6 +43,8 @@ def test_unknown_head_bad_copies_and_bad_jitter_are_refused():
         CropTrainConfig(data=("d",), out="o", icon_negatives=1.5)
     with pytest.raises(ValueError, match="hard_negatives"):
         CropTrainConfig(data=("d",), out="o", hard_negatives=-1)
+    with pytest.raises(ValueError, match="no classifier file"):
+        CropTrainConfig(data=("d",), out="o", init="missing.onnx")
 
 
 def _disc_and_cap() -> tuple[torch.Tensor, torch.Tensor]:
@@ -109,3 +111,17 @@ def test_a_blackball_renders_yellows_are_taught_as_plain_balls(tmp_path, ball_se
     shuffled = {0: 3, 1: 2, 2: 1, 3: 0, 4: 4}  # dataset id -> ours (dataset 0 is our stripe, 1 our solid)
     expect = [1, 1, 2, 3, 4] if ball_set == "blackball" else ids.tolist()
     assert plain_object_balls(item, shuffled).class_id.tolist() == expect
+
+
+def test_the_bundled_classifier_loads_back_into_its_network():
+    from pix2pockets.vision.train.ball_classifier import load_crop_net
+
+    rng = np.random.default_rng(0)
+    crops = rng.integers(0, 256, (16, CROP_SIZE, CROP_SIZE, 3), dtype=np.uint8)
+    shipped = BallClassifier.from_default()
+    net = load_crop_net(BallClassifier.default_path(), CropNet(), crops).eval()
+    with torch.no_grad():
+        ours = torch.softmax(net(torch.from_numpy(crops).permute(0, 3, 1, 2).float()), dim=1).numpy()
+    np.testing.assert_allclose(ours, shipped.run(crops), atol=1e-4)
+    with pytest.raises(ValueError, match="shape"):
+        load_crop_net(BallClassifier.default_path(), CropNet(widths=(8, 16, 32)), crops)

@@ -75,6 +75,36 @@ class CropNet(nn.Module):
         return self.fc(x) if self.head == "grid" else self.fc(x.mean(dim=(2, 3)))
 
 
+def load_crop_net(path: str | Path, net: CropNet, calibration: np.ndarray) -> CropNet:
+    """``net`` with the weights of the classifier ONNX it was exported to (fp32; same widths, head and crop size).
+
+    The convolutions and their batch norms come back through
+    :func:`~pix2pockets.vision.train.onnx_import.load_onnx_into` (norm statistics measured on ``calibration``, uint8
+    crops (N, S, S, 3)), the linear head by its initializer names (``net.<module>.weight``, ``.bias``).
+
+    Raises:
+        ValueError: when the file does not fit the network.
+    """
+    from onnx import numpy_helper
+
+    from pix2pockets.vision.train.onnx_file import load_onnx_model
+    from pix2pockets.vision.train.onnx_import import load_onnx_into
+
+    x = torch.from_numpy(np.ascontiguousarray(calibration)).permute(0, 3, 1, 2).float()
+    load_onnx_into(net, path, x)
+    tensors = {t.name: numpy_helper.to_array(t) for t in load_onnx_model(Path(path)).graph.initializer}
+    with torch.no_grad():
+        for name, layer in net.named_modules():
+            if not isinstance(layer, nn.Linear):
+                continue
+            weight, bias = tensors.get(f"net.{name}.weight"), tensors.get(f"net.{name}.bias")
+            if weight is None or bias is None or weight.shape != tuple(layer.weight.shape):
+                raise ValueError(f"{path}: no linear layer {name} of shape {tuple(layer.weight.shape)}")
+            layer.weight.copy_(torch.from_numpy(np.array(weight)))
+            layer.bias.copy_(torch.from_numpy(np.array(bias)))
+    return net
+
+
 class _Exported(nn.Module):
     """What the ONNX file computes: uint8 crops (N, S, S, 3) -> class probabilities (N, 5)."""
 
@@ -104,6 +134,9 @@ class CropTrainConfig(CropTrainSettings):
             as "no ball" crops, per labelled-ball crop (0: none).
         hard_negatives: copies of each of the bundled detector's false balls on the training images (pockets, cue
             tips, chalk: :mod:`~pix2pockets.vision.train.hard_negatives`) added as "no ball" crops (0: none).
+        init: an fp32 classifier ONNX to start from (:func:`load_crop_net`), or None for random weights; a fine-tune
+            from the bundled classifier shares its start, so the two can be averaged
+            (:func:`~pix2pockets.vision.train.weight_average.average_onnx_weights`).
     """
 
     command: ClassVar[str] = "train-ball-classifier"
@@ -118,8 +151,11 @@ class CropTrainConfig(CropTrainSettings):
     crop_size: int = CROP_SIZE
     icon_negatives: float = 0.0
     hard_negatives: int = 0
+    init: str | None = None
 
     def check(self) -> None:
+        if self.init is not None and not Path(self.init).is_file():
+            raise ValueError(f"--init: no classifier file {self.init}")
         if not 0 <= self.class_power <= 1:
             raise ValueError(f"class_power must be in [0, 1], got {self.class_power}")
         if self.head not in HEADS:
@@ -243,6 +279,9 @@ def train_crop_classifier(cfg: CropTrainConfig, progress: bool = True) -> Path:
     weight = torch.tensor(weight / (weight * counts).sum() * counts.sum(), dtype=torch.float32)
 
     model = CropNet(cfg.widths, cfg.head, cfg.crop_size)
+    if cfg.init:
+        calibration = crops[np.random.default_rng((cfg.seed, 3)).permutation(len(crops))[:64]]
+        load_crop_net(cfg.init, model, calibration)
 
     def batch_loss(net: nn.Module, x: torch.Tensor, y: torch.Tensor, gen: torch.Generator) -> torch.Tensor:
         return nn.functional.cross_entropy(net(augment(x, gen)), y, weight=weight)

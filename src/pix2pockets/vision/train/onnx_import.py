@@ -86,7 +86,7 @@ def load_onnx_into(model: NetT, path: str | Path, calibration: torch.Tensor) -> 
     convs = _convs_in_run_order(model, calibration[:1])
     stored = _onnx_convs(path)
     if len(convs) != len(stored):
-        raise ValueError(f"{path}: {len(stored)} convolutions, the network has {len(convs)}; not a detector export")
+        raise ValueError(f"{path}: {len(stored)} convolutions, the network has {len(convs)}; not an export of it")
     norms = _norm_after(model)
     folded_bias: dict[nn.BatchNorm2d, torch.Tensor] = {}
     with torch.no_grad():
