@@ -37,12 +37,11 @@ from pix2pockets.vision.classes import BALL_IDS, CLASS_NAMES
 from pix2pockets.vision.detect.detections import Detections
 from pix2pockets.vision.detect.postprocess import box_iou
 from pix2pockets.vision.metrics.detection import GroundTruth, evaluate_classes
-from pix2pockets.vision.stages.ball_colours import MIN_COLOURED_BALLS
+from pix2pockets.vision.stages.ball_colours import BLACK_ID, MIN_COLOURED_BALLS
 
 SETS = ("blackball", "auto")
 OBJECT_IDS = (CLASS_NAMES.index("solid"), CLASS_NAMES.index("stripe"))
 """Class ids of the object balls: the reds and yellows of a blackball set."""
-BLACK_ID = CLASS_NAMES.index("black")
 MATCH_IOU = 0.5
 
 

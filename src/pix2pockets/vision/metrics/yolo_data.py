@@ -76,6 +76,18 @@ def read_yolo_labels(path: Path, size: tuple[int, int]) -> tuple[np.ndarray, np.
     return boxes, arr[:, 0].astype(int)
 
 
+def _render_meta(image_path: str | Path) -> tuple[dict | None, Path]:
+    """A rendered image's ``<split>/meta/<stem>.json`` sidecar (written by ``pix2pockets synth``) and its path; None
+    where it is missing or unreadable."""
+    path = Path(image_path)
+    meta = path.parent.parent / "meta" / f"{path.stem}.json"
+    try:
+        doc = json.loads(meta.read_text())
+    except (OSError, ValueError):
+        return None, meta
+    return (doc if isinstance(doc, dict) else None), meta
+
+
 def camera_kind_of(image_path: str | Path) -> str:
     """The camera kind (``synth.cameras.CAMERA_KINDS``) a rendered image was taken with, from its
     ``<split>/meta/<stem>.json`` sidecar (written by ``pix2pockets synth``).
@@ -83,16 +95,13 @@ def camera_kind_of(image_path: str | Path) -> str:
     Raises:
         ValueError: the image has no sidecar or the sidecar names no camera kind.
     """
-    path = Path(image_path)
-    meta = path.parent.parent / "meta" / f"{path.stem}.json"
-    try:
-        kind = json.loads(meta.read_text()).get("camera", {}).get("kind")
-    except (OSError, ValueError, AttributeError):
-        kind = None
+    doc, meta = _render_meta(image_path)
+    camera = (doc or {}).get("camera")
+    kind = camera.get("kind") if isinstance(camera, dict) else None
     if not isinstance(kind, str):
         raise ValueError(
-            f"no camera kind for {path.name}: {meta} is missing or names none (camera kinds come with datasets "
-            "rendered by pix2pockets synth)"
+            f"no camera kind for {Path(image_path).name}: {meta} is missing or names none (camera kinds come with "
+            "datasets rendered by pix2pockets synth)"
         )
     return kind
 
@@ -100,12 +109,7 @@ def camera_kind_of(image_path: str | Path) -> str:
 def ball_set_of(image_path: str | Path) -> str:
     """The ball set (``"american"`` or ``"blackball"``) of a rendered image, from its ``<split>/meta/<stem>.json``
     sidecar; ``"american"`` for an image without one (real photos, renders from before blackball sets)."""
-    path = Path(image_path)
-    meta = path.parent.parent / "meta" / f"{path.stem}.json"
-    try:
-        ball_set = json.loads(meta.read_text()).get("ball_set", "american")
-    except (OSError, ValueError, AttributeError):
-        return "american"
+    ball_set = (_render_meta(image_path)[0] or {}).get("ball_set")
     return ball_set if isinstance(ball_set, str) else "american"
 
 

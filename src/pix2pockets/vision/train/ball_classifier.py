@@ -18,10 +18,10 @@ import numpy as np
 import torch
 from torch import nn
 
-from pix2pockets.vision.classes import CLASS_NAMES
 from pix2pockets.vision.image_io import read_image_rgb
 from pix2pockets.vision.metrics.yolo_data import LabelledImage, ball_set_of, load_splits
 from pix2pockets.vision.stages.ball_classifier import OUTPUT_NAME
+from pix2pockets.vision.stages.ball_colours import SOLID_ID, STRIPE_ID
 from pix2pockets.vision.stages.crops import CROP_SIZE
 from pix2pockets.vision.train.crop_data import CROP_LABELS, NO_BALL, CropConfig, collect_crops, degrade_crops
 from pix2pockets.vision.train.crop_fit import CropTrainSettings, fit_crops, labelled_sources, predict_crops
@@ -173,9 +173,6 @@ class CropTrainConfig(CropTrainSettings):
                 f"centre_jitter must be in [0, 0.5) and scale_jitter a range lo <= hi above 0, got "
                 f"{self.centre_jitter} and {self.scale_jitter}"
             )
-
-
-SOLID_ID, STRIPE_ID = CLASS_NAMES.index("solid"), CLASS_NAMES.index("stripe")
 
 
 def plain_object_balls(item: LabelledImage, cmap: dict[int, int]) -> LabelledImage:
